@@ -1,0 +1,584 @@
+// The Extraction of Affinity Roots: closed-form real logarithms and powers of 2D and 3D
+// affinities. See ../../shared/notes/ear-math.md (§1-§3) for the mathematics.
+//
+// Outline of log([L | t]):
+//  1. Screen non-finite input and det L <= 0.
+//  2. 2D: the block kernel logBlock2 gives log L = alpha 1 + beta N (N = L - r 1, N^2 = d 1).
+//     3D: eigenvalues of L from the depressed cubic of E = L - 1 (working with E keeps full
+//     relative accuracy near the identity). If the three eigenvalues agree within 2%, the log is
+//     the series of log(1 + N) around their mean (TripleEigenvalue). Otherwise a simple positive
+//     eigenvalue mu is split off with its right/left eigenvectors: L = mu P + W L2 W^T Pi, and
+//     the remaining 2D block L2 goes to logBlock2.
+//  3. Translation: u = phi(M)^-1 t with phi(X) = (e^X - 1) X^-1, evaluated on the same spectral
+//     form. This never divides by det(1 - L), so eigenvalue 1 (screws, shears, translations)
+//     needs no special case.
+// Powers A^s = exp(s [M | u]) reuse the spectral form (class Span).
+
+#include <steady/core/ear.hpp>
+
+#include "kernels.hpp"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace steady {
+
+namespace {
+
+using detail::BlockCoefficients;
+using detail::CoshSinhc;
+using detail::CubicRoots;
+
+constexpr double kPi = 3.14159265358979323846;
+// Relative eigenvalue spread below which the 3D logarithm uses the series about the mean
+// eigenvalue (where splitting off an eigenvector would be ill-conditioned).
+constexpr double kTripleSpread = 0.02;
+// Hadamard ratio at or below which L counts as singular (same threshold as Affine::inverse).
+constexpr double kSingularRatio = 1e-14;
+constexpr double kSeriesTiny = 0x1.0p-56;
+
+struct Failure {
+  ErrorCode code = ErrorCode::InvalidArgument;
+  std::string message;
+};
+
+std::string fmt(double x) {
+  std::ostringstream os;
+  os.precision(6);
+  os << x;
+  return os.str();
+}
+
+template <int D>
+bool screen(const Affine<D>& A, Failure& fail) {
+  if (!A.isFinite()) {
+    fail = {ErrorCode::NonFinite,
+            "the affinity has NaN or infinite entries; check how the pose was computed or parsed"};
+    return false;
+  }
+  const auto& L = A.linear();
+  double prod = 1.0;
+  for (int j = 0; j < D; ++j) prod *= L.col(j).norm();
+  const double det = L.determinant();
+  if (!(prod > 0) || std::abs(det) <= kSingularRatio * prod) {
+    fail = {ErrorCode::Singular,
+            "the linear part is singular (det L = " + fmt(det) +
+                "): it flattens the body, so no logarithm and no SAM exist; check the pose for a "
+                "zero or repeated column"};
+    return false;
+  }
+  if (det < 0) {
+    fail = {ErrorCode::NotOrientationPreserving,
+            "det L = " + fmt(det) +
+                " < 0: the motion would have to mirror the body, which no continuous motion does "
+                "(no real logarithm); check the handedness of both poses"};
+    return false;
+  }
+  return true;
+}
+
+// log of a 2x2 block L2 = 1 + E: log L2 = alpha 1 + beta N with N = L2 - r 1 (traceless) and
+// N^2 = d 1; in the half-turn case N is the quarter turn +-J and d = -1, beta = pi.
+struct Block2Log {
+  double alpha = 0, beta = 0, d = 0;
+  Eigen::Matrix2d N = Eigen::Matrix2d::Zero();
+  LinearCase label = LinearCase::DistinctReal;
+};
+
+bool logBlock2(const Eigen::Matrix2d& E, const EarOptions& opt, Block2Log& out, Failure& fail) {
+  const double r1 = 0.5 * (E(0, 0) + E(1, 1));
+  const double r = 1.0 + r1;
+  const double h = 0.5 * (E(0, 0) - E(1, 1));
+  Eigen::Matrix2d N;
+  N << h, E(0, 1), E(1, 0), -h;
+  // d = -det N from the entries of N: no cancellation of r^2 against det L2.
+  const double d = h * h + E(0, 1) * E(1, 0);
+  const double detm1 = E(0, 0) + E(1, 1) + (E(0, 0) * E(1, 1) - E(0, 1) * E(1, 0));
+  const double det = 1.0 + detm1;
+  if (!(det > 0)) {
+    fail = {ErrorCode::Singular, "a 2D block of the linear part is numerically singular"};
+    return false;
+  }
+  out.alpha = 0.5 * std::log1p(detm1);
+  const double nN = N.norm();
+  const double ctol = opt.case_tolerance;
+  if (r < 0 && nN <= opt.half_turn_tolerance * -r) {
+    // S2: a half turn with uniform scale sqrt(det): log = ln k 1 + pi (+-J).
+    Eigen::Matrix2d J;
+    J << 0.0, -1.0, 1.0, 0.0;
+    out.N = opt.half_turn == HalfTurn::CounterClockwise ? J : Eigen::Matrix2d(-J);
+    out.beta = kPi;
+    out.d = -1.0;
+    out.label = LinearCase::HalfTurn;
+    return true;
+  }
+  out.N = N;
+  out.d = d;
+  const double scale = std::sqrt(det);  // |eigenvalue| of a complex pair / geometric mean
+  if (d < 0) {
+    // Complex pair r +- i w: beta = theta / w with theta = atan2(w, r) in (0, pi).
+    const double w = std::sqrt(-d);
+    out.beta = std::atan2(w, r) / w;
+    out.label = 2.0 * w <= ctol * scale ? LinearCase::DoubleEigenvalue : LinearCase::ComplexPair;
+    return true;
+  }
+  if (r > 0) {
+    // Two positive eigenvalues r +- s: beta = atanh(s / r) / s = ln(l1 / l2) / (l1 - l2).
+    const double s = std::sqrt(d);
+    const double z = s / r;
+    if (z < 1e-8)
+      out.beta = (1.0 + z * z / 3.0) / r;
+    else if (z < 0.5)
+      out.beta = std::atanh(z) / s;
+    else {
+      const double l1 = r + s, l2 = det / l1;
+      out.beta = std::log(l1 / l2) / (2.0 * s);
+    }
+    out.label = 2.0 * s <= ctol * (r + s) ? LinearCase::DoubleEigenvalue : LinearCase::DistinctReal;
+    return true;
+  }
+  const double s = std::sqrt(d);
+  if (s > ctol * -r)
+    fail = {ErrorCode::NoRealLog,
+            "the linear part has two distinct negative eigenvalues (" + fmt(r + s) + ", " +
+                fmt(r - s) +
+                "), so it has no real logarithm and no SAM connects these poses; insert an "
+                "intermediate pose (for example the pose half-way along another interpolation) "
+                "and use two SAM spans"};
+  else
+    fail = {ErrorCode::NoRealLog,
+            "the linear part has a negative eigenvalue " + fmt(r) +
+                " in a Jordan block (a half turn combined with a shear), so it has no real "
+                "logarithm and no SAM connects these poses; insert an intermediate pose and use "
+                "two SAM spans"};
+  return false;
+}
+
+// Label of the translation part from the eigenvalue offsets lambda_k - 1 (as complex numbers).
+template <int D>
+TranslationCase translationCase(const double (&re)[3], const double (&im)[3], double lmax,
+                                const typename Affine<D>::Linear& E, double ctol) {
+  int count = 0;
+  const double tol = ctol * std::max(1.0, lmax);
+  for (int k = 0; k < D; ++k)
+    if (std::hypot(re[k], im[k]) <= tol) ++count;
+  const double emax = E.cwiseAbs().maxCoeff();
+  if (count == 0) return TranslationCase::FixedPoint;
+  if (count == 1) return TranslationCase::Eigen1Semisimple;
+  if (count == D) return emax <= tol ? TranslationCase::PureTranslation : TranslationCase::Eigen1Defective;
+  // D = 3, double eigenvalue 1: semisimple iff rank E = 1 iff every 2x2 minor of E vanishes.
+  Eigen::Matrix3d E3 = Eigen::Matrix3d::Zero();
+  E3.template topLeftCorner<D, D>() = E;
+  const double minor = E3.row(0).cross(E3.row(1)).cwiseAbs().maxCoeff() +
+                       E3.row(0).cross(E3.row(2)).cwiseAbs().maxCoeff() +
+                       E3.row(1).cross(E3.row(2)).cwiseAbs().maxCoeff();
+  return minor <= tol * std::max(emax * emax, 1e-300) ? TranslationCase::Eigen1Semisimple
+                                                      : TranslationCase::Eigen1Defective;
+}
+
+// Coefficients (c0, c1, c2) of sum_n w_n Y^n for a 3x3 matrix Y with Y^3 = k2 Y^2 + k1 Y + k0,
+// where w_n = weight(n), n = 0..nmax.
+template <class Weight>
+void cayleyHamiltonSeries(double k0, double k1, double k2, int nmax, Weight weight, double c[3]) {
+  double a = 1.0, b = 0.0, cc = 0.0;  // Y^0
+  c[0] = c[1] = c[2] = 0.0;
+  for (int n = 0; n <= nmax; ++n) {
+    const double w = weight(n);
+    c[0] += w * a;
+    c[1] += w * b;
+    c[2] += w * cc;
+    const double a1 = cc * k0, b1 = a + cc * k1, c1 = b + cc * k2;
+    a = a1;
+    b = b1;
+    cc = c1;
+  }
+}
+
+// Number of terms after which a power series with coefficients bounded by 1/n! in a 3x3 matrix
+// of spectral radius rho is converged to kSeriesTiny (the Cayley-Hamilton coefficients of Y^n
+// are bounded by n^2 rho^(n-2)).
+int seriesTerms(double rho) {
+  double bound = 1.0;
+  for (int n = 1; n <= 60; ++n) {
+    bound *= std::max(rho, 1e-300) / n;
+    if (n >= 3 && static_cast<double>(n) * n * bound / (rho * rho + 1e-300) < kSeriesTiny) return n;
+  }
+  return 60;
+}
+
+Eigen::Vector3d orthogonalTo(const Eigen::Vector3d& n) {
+  // A unit vector orthogonal to the unit vector n, continuous except where n_z changes sign.
+  const double sign = std::copysign(1.0, n.z());
+  const double a = -1.0 / (sign + n.z());
+  const double b = n.x() * n.y() * a;
+  return Eigen::Vector3d(1.0 + sign * n.x() * n.x() * a, sign * b, -sign * n.x());
+}
+
+template <int D>
+struct LogWork;
+
+template <>
+struct LogWork<2> {
+  static bool run(const Affine2& A, const EarOptions& opt, AffineLog2& log, detail::Spectral<2>& sp,
+                  Failure& fail) {
+    if (!screen(A, fail)) return false;
+    const Eigen::Matrix2d E = A.linear() - Eigen::Matrix2d::Identity();
+    Block2Log b;
+    if (!logBlock2(E, opt, b, fail)) return false;
+    const Eigen::Matrix2d bN = b.beta * b.N;
+    const double eta = b.beta * b.beta * b.d;
+    log.M = b.alpha * Eigen::Matrix2d::Identity() + bN;
+    const BlockCoefficients pq = detail::phiBlock(b.alpha, eta);
+    const Eigen::Vector2d& t = A.translation();
+    log.u = (pq.p * t - pq.q * (bN * t)) / (pq.p * pq.p - pq.q * pq.q * eta);
+    log.kase.linear = b.label;
+    // Eigenvalue offsets lambda - 1 for the label.
+    double re[3] = {0, 0, 0}, im[3] = {0, 0, 0};
+    const double r1 = 0.5 * (E(0, 0) + E(1, 1));
+    const double h = 0.5 * (E(0, 0) - E(1, 1));
+    const double d = h * h + E(0, 1) * E(1, 0);
+    const double s = std::sqrt(std::abs(d));
+    if (d >= 0) {
+      re[0] = r1 + s;
+      re[1] = r1 - s;
+    } else {
+      re[0] = re[1] = r1;
+      im[0] = s;
+      im[1] = -s;
+    }
+    const double lmax = std::max(std::abs(1.0 + r1) + s, 1.0);
+    log.kase.translation = translationCase<2>(re, im, lmax, E, opt.case_tolerance);
+    sp = detail::Spectral<2>{};
+    sp.m = b.alpha;
+    sp.eta = eta;
+    sp.N = bN;
+    sp.Piu = log.u;
+    sp.Nu = bN * log.u;
+    return true;
+  }
+};
+
+template <>
+struct LogWork<3> {
+  static bool run(const Affine3& A, const EarOptions& opt, AffineLog3& log, detail::Spectral<3>& sp,
+                  Failure& fail) {
+    if (!screen(A, fail)) return false;
+    const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+    const Eigen::Matrix3d E = A.linear() - I;
+    const Eigen::Vector3d& t = A.translation();
+    const double s = E.trace() / 3.0;  // mean eigenvalue - 1
+    const double lbar = 1.0 + s;
+    const Eigen::Matrix3d F = E - s * I;  // traceless: eigenvalues y_k = lambda_k - lbar
+    const double P = -0.5 * (F.cwiseProduct(F.transpose())).sum();
+    const double Q = -F.determinant();
+    const CubicRoots roots = detail::depressedCubic(P, Q);
+    const double* y = roots.y;
+    const double spread = roots.real3 ? std::max(std::abs(y[0]), std::abs(y[2]))
+                                      : std::max(std::abs(y[0]), std::hypot(y[1], y[2]));
+
+    // Labels from the eigenvalue offsets lambda_k - 1.
+    double re[3], im[3] = {0, 0, 0};
+    if (roots.real3) {
+      for (int k = 0; k < 3; ++k) re[k] = s + y[k];
+    } else {
+      re[0] = s + y[0];
+      re[1] = re[2] = s + y[1];
+      im[1] = y[2];
+      im[2] = -y[2];
+    }
+    const double lmax = std::abs(lbar) + spread;
+    log.kase.translation = translationCase<3>(re, im, lmax, E, opt.case_tolerance);
+
+    sp = detail::Spectral<3>{};
+    if (lbar > 0 && spread <= kTripleSpread * lbar) return seriesForm(F, s, P, Q, spread, t, log, sp);
+
+    // Choose the simple positive eigenvalue mu to split off: the real one of a complex pair,
+    // the only positive one, or the most separated of three positive ones.
+    double ymu = y[0];
+    if (roots.real3 && lbar + y[2] > 0 && (y[1] - y[2]) > (y[0] - y[1])) ymu = y[2];
+    const double muE = s + ymu;  // mu - 1
+    if (!(1.0 + muE > 0)) {
+      fail = {ErrorCode::NoRealLog, "the linear part has no positive real eigenvalue"};
+      return false;
+    }
+    // Right (e) and left (f) eigenvectors of mu from the largest cross products of the rows /
+    // columns of K = L - mu 1.
+    const Eigen::Matrix3d K = F - ymu * I;
+    auto largestCross = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+      const Eigen::Vector3d x0 = a.cross(b), x1 = a.cross(c), x2 = b.cross(c);
+      const double n0 = x0.squaredNorm(), n1 = x1.squaredNorm(), n2 = x2.squaredNorm();
+      if (n0 >= n1 && n0 >= n2) return x0;
+      return n1 >= n2 ? x1 : x2;
+    };
+    const Eigen::Vector3d e = largestCross(K.row(0), K.row(1), K.row(2));
+    Eigen::Vector3d f = largestCross(K.col(0), K.col(1), K.col(2));
+    const double fn = f.norm();
+    if (!(fn > 0) || !(e.squaredNorm() > 0))
+      return seriesForm(F, s, P, Q, spread, t, log, sp);  // unreachable for a simple mu
+    f /= fn;
+    // Canonical orientation of the invariant plane (matters for the half-turn convention only).
+    int imax = 0;
+    for (int k = 1; k < 3; ++k)
+      if (std::abs(f(k)) > std::abs(f(imax))) imax = k;
+    if (f(imax) < 0) f = -f;
+    Eigen::Matrix<double, 3, 2> W;
+    W.col(0) = orthogonalTo(f);
+    W.col(1) = f.cross(W.col(0));
+    const Eigen::Matrix3d P1 = e * f.transpose() / f.dot(e);
+    const Eigen::Matrix3d Pi = I - P1;
+    const Eigen::Matrix2d E2 = W.transpose() * E * W;
+    Block2Log b;
+    if (!logBlock2(E2, opt, b, fail)) return false;
+    log.kase.linear = b.label;
+    const double lam = std::log1p(muE);
+    const Eigen::Matrix3d Nt = b.beta * (W * b.N * W.transpose()) * Pi;
+    const double eta = b.beta * b.beta * b.d;
+    log.M = lam * P1 + b.alpha * Pi + Nt;
+    const BlockCoefficients pq = detail::phiBlock(b.alpha, eta);
+    const Eigen::Vector3d Pt = P1 * t, Pit = Pi * t, Ntt = Nt * t;
+    log.u = Pt / detail::phi(lam) + (pq.p * Pit - pq.q * Ntt) / (pq.p * pq.p - pq.q * pq.q * eta);
+    sp.lam = lam;
+    sp.m = b.alpha;
+    sp.eta = eta;
+    sp.P = P1;
+    sp.Pi = Pi;
+    sp.N = Nt;
+    sp.Pu = P1 * log.u;
+    sp.Piu = Pi * log.u;
+    sp.Nu = Nt * log.u;
+    return true;
+  }
+
+  // Near a triple eigenvalue: L = lbar (1 + N) with N = F / lbar of spectral radius <= 2%,
+  // log L = ln lbar + log(1 + N) summed with Cayley-Hamilton (N^3 = -Pn N - Qn).
+  static bool seriesForm(const Eigen::Matrix3d& F, double s, double P, double Q, double spread,
+                         const Eigen::Vector3d& t, AffineLog3& log, detail::Spectral<3>& sp) {
+    const double lbar = 1.0 + s;
+    const Eigen::Matrix3d Nn = F / lbar;
+    const double rhoN = spread / lbar;
+    const double k0 = -Q / (lbar * lbar * lbar), k1 = -P / (lbar * lbar);
+    // log(1 + x) = sum_{n>=1} (-1)^(n+1) x^n / n; term n is bounded by n rho^(n-2) (the
+    // Cayley-Hamilton coefficients of N^n are at most n^2 rho^(n-2)).
+    int nmax = 3;
+    for (double b = rhoN; nmax < 200 && nmax * b > kSeriesTiny; ++nmax) b *= rhoN;
+    double z[3];
+    cayleyHamiltonSeries(k0, k1, 0.0, nmax,
+                         [](int n) { return n == 0 ? 0.0 : ((n % 2) ? 1.0 : -1.0) / n; }, z);
+    const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+    const Eigen::Matrix3d Nn2 = Nn * Nn;
+    const Eigen::Matrix3d Z = z[0] * I + z[1] * Nn + z[2] * Nn2;
+    const double ell = std::log1p(s);
+    log.M = ell * I + Z;
+    log.kase.linear = LinearCase::TripleEigenvalue;
+    // Cayley-Hamilton of Z itself, for exp and phi of multiples of M.
+    const double kz2 = Z.trace();
+    const double kz1 = -0.5 * (kz2 * kz2 - Z.cwiseProduct(Z.transpose()).sum());  // -c1(Z)
+    const double kz0 = Z.determinant();
+    const double rhoZ = rhoN / (1.0 - rhoN);
+    // u = phi(M)^-1 t, phi(ell + Z) = sum_n I_n(ell)/n! Z^n.
+    const int n = seriesTerms(rhoZ);
+    double J[65];
+    detail::phiMoments(ell, n, J);
+    double g[3];
+    cayleyHamiltonSeries(kz0, kz1, kz2, n, [&](int k) { return J[k]; }, g);
+    const Eigen::Matrix3d Z2 = Z * Z;
+    const Eigen::Matrix3d G = g[0] * I + g[1] * Z + g[2] * Z2;
+    log.u = G.partialPivLu().solve(t);
+    sp.series = true;
+    sp.ell = ell;
+    sp.Z = Z;
+    sp.Z2 = Z2;
+    sp.k0 = kz0;
+    sp.k1 = kz1;
+    sp.k2 = kz2;
+    sp.rho = rhoZ;
+    sp.u = log.u;
+    sp.Zu = Z * log.u;
+    sp.Z2u = Z2 * log.u;
+    return true;
+  }
+};
+
+[[noreturn]] void raise(const Failure& f) {
+  throw Error(f.code, f.message);
+}
+
+}  // namespace
+
+// --- labels ----------------------------------------------------------------------------------
+
+const char* to_string(LinearCase c) noexcept {
+  switch (c) {
+    case LinearCase::ComplexPair: return "complex-pair";
+    case LinearCase::DistinctReal: return "distinct-real";
+    case LinearCase::DoubleEigenvalue: return "double-eigenvalue";
+    case LinearCase::HalfTurn: return "half-turn";
+    case LinearCase::TripleEigenvalue: return "triple-eigenvalue";
+  }
+  return "unknown";
+}
+
+const char* to_string(TranslationCase c) noexcept {
+  switch (c) {
+    case TranslationCase::FixedPoint: return "fixed-point";
+    case TranslationCase::Eigen1Semisimple: return "eigen1-semisimple";
+    case TranslationCase::Eigen1Defective: return "eigen1-defective";
+    case TranslationCase::PureTranslation: return "pure-translation";
+  }
+  return "unknown";
+}
+
+std::string to_string(const LogCase& c) {
+  return std::string(to_string(c.linear)) + "/" + to_string(c.translation);
+}
+
+template <int D>
+typename AffineLog<D>::Homogeneous AffineLog<D>::homogeneous() const {
+  Homogeneous h = Homogeneous::Zero();
+  h.template topLeftCorner<D, D>() = M;
+  h.template topRightCorner<D, 1>() = u;
+  return h;
+}
+
+// --- public functions ------------------------------------------------------------------------
+
+template <int D>
+AffineLog<D> log(const Affine<D>& A, const EarOptions& options) {
+  AffineLog<D> out;
+  detail::Spectral<D> sp;
+  Failure f;
+  if (!LogWork<D>::run(A, options, out, sp, f)) raise(f);
+  return out;
+}
+
+template <int D>
+Span<D>::Span(const Affine<D>& A, const EarOptions& options) : relative_(A) {
+  Failure f;
+  if (!LogWork<D>::run(A, options, log_, spec_, f)) raise(f);
+}
+
+template <int D>
+Span<D> Span<D>::between(const Affine<D>& B, const Affine<D>& C, const EarOptions& options) {
+  Span s(C * B.inverse(), options);
+  s.start_ = B;
+  return s;
+}
+
+template <int D>
+Affine<D> Span<D>::power(double t) const {
+  using Linear = typename Affine<D>::Linear;
+  using Vec = typename Affine<D>::Vector;
+  const detail::Spectral<D>& sp = spec_;
+  if constexpr (D == 3) {
+    if (sp.series) {
+      // exp(t M) = e^{t ell} exp(tZ), phi(tM) = sum_n I_n(t ell)/n! (tZ)^n.
+      const double k0 = t * t * t * sp.k0, k1 = t * t * sp.k1, k2 = t * sp.k2;
+      const int n = seriesTerms(std::abs(t) * sp.rho);
+      double inv[65];
+      inv[0] = 1.0;
+      for (int k = 1; k <= n; ++k) inv[k] = inv[k - 1] / k;
+      double ce[3], cg[3], J[65];
+      cayleyHamiltonSeries(k0, k1, k2, n, [&](int k) { return inv[k]; }, ce);
+      detail::phiMoments(t * sp.ell, n, J);
+      cayleyHamiltonSeries(k0, k1, k2, n, [&](int k) { return J[k]; }, cg);
+      const double g = std::exp(t * sp.ell);
+      const Linear Lt = g * (ce[0] * Linear::Identity() + (ce[1] * t) * sp.Z + (ce[2] * t * t) * sp.Z2);
+      const Vec tt = t * (cg[0] * sp.u + (cg[1] * t) * sp.Zu + (cg[2] * t * t) * sp.Z2u);
+      return Affine<D>(Lt, tt);
+    }
+  }
+  // Split form: exp(tM) = e^{t lam} P + e^{t m} (C Pi + t S N), C, S at t^2 eta;
+  // translation t [phi(t lam) P u + p Pi u + t q N u] with (p, q) = phiBlock(t m, t^2 eta).
+  const double eta = t * t * sp.eta;
+  const double a = t * sp.m;
+  const CoshSinhc cs = detail::coshSinhc(eta);
+  const double ea = std::exp(a);
+  Linear Lt = (ea * cs.c) * sp.Pi + (ea * t * cs.s) * sp.N;
+  const BlockCoefficients pq = detail::phiBlock(a, eta);
+  Vec tt = t * (pq.p * sp.Piu + (t * pq.q) * sp.Nu);
+  if constexpr (D == 3) {
+    const double x = t * sp.lam;
+    const double em = std::expm1(x);
+    Lt += (1.0 + em) * sp.P;
+    tt += (t * (std::abs(x) < 1e-8 ? 1.0 + 0.5 * x : em / x)) * sp.Pu;
+  }
+  return Affine<D>(Lt, tt);
+}
+
+template <int D>
+Affine<D> pow(const Affine<D>& A, double t, const EarOptions& options) {
+  if (!std::isfinite(t)) throw Error(ErrorCode::NonFinite, "the exponent t is not finite");
+  return Span<D>(A, options).power(t);
+}
+
+template <int D>
+Affine<D> root(const Affine<D>& A, int n, const EarOptions& options) {
+  if (n < 1) throw Error(ErrorCode::InvalidArgument, "root: n must be at least 1, got " + std::to_string(n));
+  return Span<D>(A, options).power(1.0 / n);
+}
+
+template <int D>
+Affine<D> sam(const Affine<D>& B, double t, const Affine<D>& C, const EarOptions& options) {
+  if (!std::isfinite(t)) throw Error(ErrorCode::NonFinite, "the time t is not finite");
+  return Span<D>::between(B, C, options).pose(t);
+}
+
+template <int D>
+std::vector<Affine<D>> regularPattern(const Affine<D>& B, const Affine<D>& C, int n,
+                                      const EarOptions& options) {
+  if (n < 1)
+    throw Error(ErrorCode::InvalidArgument, "regularPattern: n must be at least 1, got " + std::to_string(n));
+  const Span<D> span = Span<D>::between(B, C, options);
+  std::vector<Affine<D>> out;
+  out.reserve(static_cast<std::size_t>(n) + 1);
+  for (int i = 0; i <= n; ++i) out.push_back(span.pose(static_cast<double>(i) / n));
+  return out;
+}
+
+template <int D>
+Existence realLogExists(const Affine<D>& A, const EarOptions& options) noexcept {
+  try {
+    AffineLog<D> lg;
+    detail::Spectral<D> sp;
+    Failure f;
+    if (LogWork<D>::run(A, options, lg, sp, f)) return {};
+    return {false, f.code, f.message};
+  } catch (const std::exception& e) {  // only std::bad_alloc from message building
+    return {false, ErrorCode::InvalidArgument, e.what()};
+  }
+}
+
+template <int D>
+Existence samExists(const Affine<D>& B, const Affine<D>& C, const EarOptions& options) noexcept {
+  try {
+    return realLogExists<D>(C * B.inverse(), options);
+  } catch (const Error& e) {
+    return {false, e.code(), std::string("the start pose: ") + e.what()};
+  } catch (const std::exception& e) {
+    return {false, ErrorCode::InvalidArgument, e.what()};
+  }
+}
+
+// --- instantiations --------------------------------------------------------------------------
+
+#define STEADY_EAR_INSTANTIATE(D)                                                                  \
+  template struct AffineLog<D>;                                                                    \
+  template class Span<D>;                                                                          \
+  template AffineLog<D> log<D>(const Affine<D>&, const EarOptions&);                                \
+  template Affine<D> pow<D>(const Affine<D>&, double, const EarOptions&);                           \
+  template Affine<D> root<D>(const Affine<D>&, int, const EarOptions&);                             \
+  template Affine<D> sam<D>(const Affine<D>&, double, const Affine<D>&, const EarOptions&);         \
+  template std::vector<Affine<D>> regularPattern<D>(const Affine<D>&, const Affine<D>&, int,        \
+                                                    const EarOptions&);                             \
+  template Existence realLogExists<D>(const Affine<D>&, const EarOptions&) noexcept;               \
+  template Existence samExists<D>(const Affine<D>&, const Affine<D>&, const EarOptions&) noexcept;
+
+STEADY_EAR_INSTANTIATE(2)
+STEADY_EAR_INSTANTIATE(3)
+
+#undef STEADY_EAR_INSTANTIATE
+
+}  // namespace steady

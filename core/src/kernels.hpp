@@ -1,0 +1,48 @@
+#pragma once
+// Scalar kernels of the EAR (private to steady::core).
+//
+// A real 2x2 block function is written F(a 1 + N) = p 1 + q N where N is traceless, so that
+// N^2 = eta 1 with eta = -det N (eta > 0: two real eigenvalues a +- sqrt(eta); eta < 0: a complex
+// pair a +- i sqrt(-eta)). Every kernel below is continuous in (a, eta) across eta = 0 and across
+// the switches between its formulas; each switch is placed where both sides are accurate to a
+// few units in the last place.
+
+namespace steady::detail {
+
+/// C(x) = cosh(sqrt x), S(x) = sinh(sqrt x)/sqrt x, Cm1 = C - 1 for x >= 0, and the
+/// trigonometric continuations cos(sqrt -x), sin(sqrt -x)/sqrt -x for x < 0. For |x| < 1e-6 a
+/// Taylor polynomial is used (truncation error below 1e-25).
+struct CoshSinhc {
+  double c, s, cm1;
+};
+CoshSinhc coshSinhc(double x);
+
+/// phi(x) = (e^x - 1)/x, phi(0) = 1 (relative error a few ulp for every x).
+double phi(double x);
+
+/// The coefficients of phi(a 1 + N) = p 1 + q N, N^2 = eta 1, where phi(X) = (e^X - 1) X^-1 =
+/// integral_0^1 e^{sX} ds. Regimes (spectral radius r = |a| + sqrt|eta|, h = sqrt|eta|):
+///  - r <= 1: power series sum X^n/(n+1)! with X^n = p_n + q_n N (adaptive length, <= 21 terms);
+///  - h <= max(1/4, |a|/4): closed form over det X = a^2 - eta, which is then >= 1/4 and whose
+///    numerators do not cancel (close eigenvalues, both away from 0);
+///  - eta > 0: (phi(x1) +- phi(x2)) over the well separated real eigenvalues x1,2 = a +- h;
+///  - eta < 0: real and imaginary parts of phi(a + i h) with |h| >= 1/4.
+struct BlockCoefficients {
+  double p, q;
+};
+BlockCoefficients phiBlock(double a, double eta);
+
+/// Roots of y^3 + P y + Q = 0. When `real3` is true, y[0] >= y[1] >= y[2] are the three real
+/// roots; otherwise y[0] is the real root and the complex pair is y[1] +- i y[2] (y[2] >= 0).
+struct CubicRoots {
+  bool real3;
+  double y[3];
+};
+CubicRoots depressedCubic(double P, double Q);
+
+/// I_n(a)/n! for n = 0..nmax (nmax <= 64), with I_n(a) = integral_0^1 s^n e^{a s} ds, computed
+/// by a recurrence run in its stable direction (forward for |a| > nmax, else backward from
+/// nmax + 60).
+void phiMoments(double a, int nmax, double* out);
+
+}  // namespace steady::detail
