@@ -122,7 +122,7 @@ bool logBlock2(const Eigen::Matrix2d& E, const EarOptions& opt, Block2Log& out, 
     // Complex pair r +- i w: beta = theta / w with theta = atan2(w, r) in (0, pi).
     const double w = std::sqrt(-d);
     out.beta = std::atan2(w, r) / w;
-    out.label = 2.0 * w <= ctol * scale ? LinearCase::DoubleEigenvalue : LinearCase::ComplexPair;
+    out.label = r > 0 && 2.0 * w <= ctol * scale ? LinearCase::DoubleEigenvalue : LinearCase::ComplexPair;
     return true;
   }
   if (r > 0) {
@@ -148,6 +148,14 @@ bool logBlock2(const Eigen::Matrix2d& E, const EarOptions& opt, Block2Log& out, 
                 "), so it has no real logarithm and no SAM connects these poses; insert an "
                 "intermediate pose (for example the pose half-way along another interpolation) "
                 "and use two SAM spans"};
+  else if (nN <= ctol * -r)
+    fail = {ErrorCode::NoRealLog,
+            "the linear part is nearly a half turn but has two slightly different negative "
+            "eigenvalues (" + fmt(r + s) + ", " + fmt(r - s) + ", relative deviation " +
+                fmt(nN / -r) + " above EarOptions::half_turn_tolerance = " +
+                fmt(opt.half_turn_tolerance) +
+                "), so it has no real logarithm; if an exact half turn is meant, make the two "
+                "scalings equal or raise the tolerance, otherwise insert an intermediate pose"};
   else
     fail = {ErrorCode::NoRealLog,
             "the linear part has a negative eigenvalue " + fmt(r) +
@@ -490,20 +498,23 @@ Affine<D> Span<D>::power(double t) const {
       return Affine<D>(Lt, tt);
     }
   }
-  // Split form: exp(tM) = e^{t lam} P + e^{t m} (C Pi + t S N), C, S at t^2 eta;
-  // translation t [phi(t lam) P u + p Pi u + t q N u] with (p, q) = phiBlock(t m, t^2 eta).
+  // Split form: exp(tM) = e^{t lam} P + e^{t m} (C Pi + t S N), C, S at t^2 eta, written as
+  // 1 + (e^{t lam} - 1) P + (e^{tm} C - 1) Pi + e^{tm} t S N (exactly 1 at t = 0, and accurate
+  // relative to A^t - 1 for small t); translation t [phi(t lam) P u + p Pi u + t q N u] with
+  // (p, q) = phiBlock(t m, t^2 eta).
   const double eta = t * t * sp.eta;
   const double a = t * sp.m;
   const CoshSinhc cs = detail::coshSinhc(eta);
-  const double ea = std::exp(a);
-  Linear Lt = (ea * cs.c) * sp.Pi + (ea * t * cs.s) * sp.N;
+  const double em = std::expm1(a);
+  Linear Lt = (em * cs.c + cs.cm1) * sp.Pi + ((1.0 + em) * t * cs.s) * sp.N;
+  Lt.diagonal().array() += 1.0;
   const BlockCoefficients pq = detail::phiBlock(a, eta);
   Vec tt = t * (pq.p * sp.Piu + (t * pq.q) * sp.Nu);
   if constexpr (D == 3) {
     const double x = t * sp.lam;
-    const double em = std::expm1(x);
-    Lt += (1.0 + em) * sp.P;
-    tt += (t * (std::abs(x) < 1e-8 ? 1.0 + 0.5 * x : em / x)) * sp.Pu;
+    const double emx = std::expm1(x);
+    Lt += emx * sp.P;
+    tt += (t * (std::abs(x) < 1e-8 ? 1.0 + 0.5 * x : emx / x)) * sp.Pu;
   }
   return Affine<D>(Lt, tt);
 }
