@@ -114,23 +114,24 @@ CubicRoots depressedCubic(double P, double Q) {
 }
 
 void phiMoments(double a, int nmax, double* out) {
+  // I_n = (e^a - n I_{n-1}) / a forward, I_{n-1} = (e^a - a I_n) / n backward. Backward keeps
+  // the relative error for every n when a <= 0 (all terms positive) and for n > a when a > 0;
+  // forward is stable for n <= a. The backward run starts 60 steps above max(nmax, 2|a|), from
+  // the asymptotic value I_n ~ e^a / (n + 1 + a); each step damps the start error by a factor
+  // |a| I_n / (n I_{n-1}) <= 1/2 there, so 60 steps damp it below 1e-18.
   nmax = std::clamp(nmax, 0, 64);
-  double I[128];
+  double I[65];
   const double ea = std::exp(a);
-  if (std::abs(a) > static_cast<double>(nmax)) {
-    // Forward: I_n = (e^a - n I_{n-1})/a, error amplification n/|a| < 1 per step.
+  const int split = a > 0 ? static_cast<int>(std::min(std::floor(a), static_cast<double>(nmax + 1))) : -1;
+  const int top = std::max(nmax, static_cast<int>(std::ceil(2.0 * std::abs(a)))) + 60;
+  double In = ea / (static_cast<double>(top + 1) + a);
+  for (int n = top; n > split + 1; --n) {
+    In = (ea - a * In) / static_cast<double>(n);  // now I_{n-1}
+    if (n - 1 <= nmax) I[n - 1] = In;
+  }
+  if (split >= 0) {
     I[0] = std::expm1(a) / a;
-    for (int n = 1; n <= nmax; ++n) I[n] = (ea - static_cast<double>(n) * I[n - 1]) / a;
-  } else {
-    // Backward: I_{n-1} = (e^a - a I_n)/n, error damped by |a|/n <= nmax/n per step; starting
-    // 60 steps above nmax damps the rough start value by more than 1e-29.
-    const int top = nmax + 60;
-    double In = std::max(ea, 1.0) / static_cast<double>(top + 1);
-    for (int n = top; n >= 1; --n) {
-      const double prev = (ea - a * In) / static_cast<double>(n);
-      if (n - 1 <= nmax) I[n - 1] = prev;
-      In = prev;
-    }
+    for (int n = 1; n <= std::min(split, nmax); ++n) I[n] = (ea - static_cast<double>(n) * I[n - 1]) / a;
   }
   double fact = 1.0;
   for (int n = 0; n <= nmax; ++n) {

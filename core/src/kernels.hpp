@@ -41,8 +41,8 @@ struct CubicRoots {
 CubicRoots depressedCubic(double P, double Q);
 
 /// I_n(a)/n! for n = 0..nmax (nmax <= 64), with I_n(a) = integral_0^1 s^n e^{a s} ds, computed
-/// by a recurrence run in its stable direction (forward for |a| > nmax, else backward from
-/// nmax + 60).
+/// by the recurrence in its stable direction: forward for n <= a (a > 0), backward otherwise
+/// (from 60 steps above max(nmax, 2|a|)).
 void phiMoments(double a, int nmax, double* out);
 
 }  // namespace steady::detail
