@@ -39,6 +39,12 @@ constexpr double kTripleSpread = 0.02;
 // Hadamard ratio at or below which L counts as singular (same threshold as Affine::inverse).
 constexpr double kSingularRatio = 1e-14;
 constexpr double kSeriesTiny = 0x1.0p-56;
+// Largest Frobenius condition number of the log's 2D block for which a span evaluates the
+// translation as (e^{tM} - 1) M^-1 u (cheaper; error grows with this condition number).
+#ifndef STEADY_VIA_INVERSE_CONDITION
+#define STEADY_VIA_INVERSE_CONDITION 4.0
+#endif
+constexpr double kViaInverseCondition = STEADY_VIA_INVERSE_CONDITION;
 
 struct Failure {
   ErrorCode code = ErrorCode::InvalidArgument;
@@ -60,10 +66,10 @@ bool screen(const Affine<D>& A, Failure& fail) {
     return false;
   }
   const auto& L = A.linear();
-  double prod = 1.0;
-  for (int j = 0; j < D; ++j) prod *= L.col(j).norm();
+  double prod2 = 1.0;  // product of squared column norms
+  for (int j = 0; j < D; ++j) prod2 *= L.col(j).squaredNorm();
   const double det = L.determinant();
-  if (!(prod > 0) || std::abs(det) <= kSingularRatio * prod) {
+  if (!(prod2 > 0) || det * det <= kSingularRatio * kSingularRatio * prod2) {
     fail = {ErrorCode::Singular,
             "the linear part is singular (det L = " + fmt(det) +
                 "): it flattens the body, so no logarithm and no SAM exist; check the pose for a "
@@ -86,6 +92,26 @@ struct Block2Log {
   double alpha = 0, beta = 0, d = 0;
   Eigen::Matrix2d N = Eigen::Matrix2d::Zero();
   LinearCase label = LinearCase::DistinctReal;
+  // Data of L2 itself: L2 - 1 = r1 1 + N (or r1 1 for a half turn), det(L2 - 1), and the
+  // eigenvalue offsets lambda - 1 (re +- i im) for the labels.
+  double r1 = 0, detE = 0, s1 = 0;
+  double re[2] = {0, 0}, im[2] = {0, 0};
+
+  double eta() const { return beta * beta * d; }
+
+  /// phi(log L2)^-1 = p 1 + q (beta N). For a well-conditioned log block X (Frobenius condition
+  /// number below kViaInverseCondition) it is X (L2 - 1)^-1, read off the known L2 - 1 =
+  /// c1 1 + s1 X_N with det(L2 - 1) = detE; otherwise the inverse of phiBlock's phi(X).
+  BlockCoefficients phiInverseOfLog() const {
+    const double eta_ = eta();
+    const double detX = alpha * alpha - eta_;
+    const double nfrob2 = beta * beta * N.squaredNorm();
+    if (2.0 * alpha * alpha + nfrob2 < kViaInverseCondition * std::abs(detX) && std::abs(detE) > 1e-280)
+      return {(alpha * r1 - s1 * eta_) / detE, (r1 - alpha * s1) / detE};
+    const BlockCoefficients pq = detail::phiBlock(alpha, eta_, r1, s1, detE);
+    const double den = pq.p * pq.p - pq.q * pq.q * eta_;
+    return {pq.p / den, -pq.q / den};
+  }
 };
 
 bool logBlock2(const Eigen::Matrix2d& E, const EarOptions& opt, Block2Log& out, Failure& fail) {
@@ -103,6 +129,19 @@ bool logBlock2(const Eigen::Matrix2d& E, const EarOptions& opt, Block2Log& out, 
     return false;
   }
   out.alpha = 0.5 * std::log1p(detm1);
+  out.r1 = r1;
+  out.detE = E.determinant();
+  {
+    const double s = std::sqrt(std::abs(d));
+    if (d >= 0) {
+      out.re[0] = r1 + s;
+      out.re[1] = r1 - s;
+    } else {
+      out.re[0] = out.re[1] = r1;
+      out.im[0] = s;
+      out.im[1] = -s;
+    }
+  }
   const double nN = N.norm();
   const double ctol = opt.case_tolerance;
   if (r < 0 && nN <= opt.half_turn_tolerance * -r) {
@@ -112,6 +151,7 @@ bool logBlock2(const Eigen::Matrix2d& E, const EarOptions& opt, Block2Log& out, 
     out.N = opt.half_turn == HalfTurn::CounterClockwise ? J : Eigen::Matrix2d(-J);
     out.beta = kPi;
     out.d = -1.0;
+    out.s1 = 0.0;  // e^{pi J} = -1: no N component
     out.label = LinearCase::HalfTurn;
     return true;
   }
@@ -122,6 +162,7 @@ bool logBlock2(const Eigen::Matrix2d& E, const EarOptions& opt, Block2Log& out, 
     // Complex pair r +- i w: beta = theta / w with theta = atan2(w, r) in (0, pi).
     const double w = std::sqrt(-d);
     out.beta = std::atan2(w, r) / w;
+    out.s1 = 1.0 / out.beta;
     out.label = r > 0 && 2.0 * w <= ctol * scale ? LinearCase::DoubleEigenvalue : LinearCase::ComplexPair;
     return true;
   }
@@ -137,6 +178,7 @@ bool logBlock2(const Eigen::Matrix2d& E, const EarOptions& opt, Block2Log& out, 
       const double l1 = r + s, l2 = det / l1;
       out.beta = std::log(l1 / l2) / (2.0 * s);
     }
+    out.s1 = 1.0 / out.beta;
     out.label = 2.0 * s <= ctol * (r + s) ? LinearCase::DoubleEigenvalue : LinearCase::DistinctReal;
     return true;
   }
@@ -172,7 +214,7 @@ TranslationCase translationCase(const double (&re)[3], const double (&im)[3], do
   int count = 0;
   const double tol = ctol * std::max(1.0, lmax);
   for (int k = 0; k < D; ++k)
-    if (std::hypot(re[k], im[k]) <= tol) ++count;
+    if (re[k] * re[k] + im[k] * im[k] <= tol * tol) ++count;
   const double emax = E.cwiseAbs().maxCoeff();
   if (count == 0) return TranslationCase::FixedPoint;
   if (count == 1) return TranslationCase::Eigen1Semisimple;
@@ -225,53 +267,68 @@ Eigen::Vector3d orthogonalTo(const Eigen::Vector3d& n) {
   return Eigen::Vector3d(1.0 + sign * n.x() * n.x() * a, sign * b, -sign * n.x());
 }
 
+// Fills the split form of a span from the parts of the log: M = lam P + alpha Pi + Nt, with
+// Nt^2 = eta Pi. When M's 2D block is well conditioned (Frobenius condition number <= 16) the
+// span stores w = (block of M)^-1 u and evaluates the block translation as (e^{tM} - 1) w,
+// which needs no phi at evaluation time.
+template <int D>
+void fillSplit(detail::Spectral<D>& sp, double lam, double alpha, double eta, double nfrob2,
+               const typename Affine<D>::Linear& P, const typename Affine<D>::Linear& Pi,
+               const typename Affine<D>::Linear& Nt, const typename Affine<D>::Vector& u) {
+  sp = detail::Spectral<D>{};
+  sp.lam = lam;
+  sp.inv_lam = lam != 0.0 ? 1.0 / lam : 0.0;  // used only where |t lam| >= 1e-8
+  sp.m = alpha;
+  sp.eta = eta;
+  sp.P = P;
+  sp.Pi = Pi;
+  sp.N = Nt;
+  sp.Pu = P * u;
+  const typename Affine<D>::Vector Piu = Pi * u, Nu = Nt * u;
+  const double det = alpha * alpha - eta;  // det of the block
+  if (2.0 * alpha * alpha + nfrob2 < kViaInverseCondition * std::abs(det) && std::abs(det) > 1e-280) {
+    sp.via_inverse = true;
+    sp.Piu = (alpha * Piu - Nu) / det;
+    sp.Nu = (alpha * Nu - eta * Piu) / det;
+  } else {
+    sp.Piu = Piu;
+    sp.Nu = Nu;
+  }
+}
+
 template <int D>
 struct LogWork;
 
 template <>
 struct LogWork<2> {
-  static bool run(const Affine2& A, const EarOptions& opt, AffineLog2& log, detail::Spectral<2>& sp,
+  static bool run(const Affine2& A, const EarOptions& opt, AffineLog2& log, detail::Spectral<2>* sp,
                   Failure& fail) {
     if (!screen(A, fail)) return false;
     const Eigen::Matrix2d E = A.linear() - Eigen::Matrix2d::Identity();
     Block2Log b;
     if (!logBlock2(E, opt, b, fail)) return false;
     const Eigen::Matrix2d bN = b.beta * b.N;
-    const double eta = b.beta * b.beta * b.d;
-    log.M = b.alpha * Eigen::Matrix2d::Identity() + bN;
-    const BlockCoefficients pq = detail::phiBlock(b.alpha, eta);
+    const double eta = b.eta();
+    log.M = bN;
+    log.M.diagonal().array() += b.alpha;
+    // u = phi(M)^-1 t.
+    const BlockCoefficients gi = b.phiInverseOfLog();
     const Eigen::Vector2d& t = A.translation();
-    log.u = (pq.p * t - pq.q * (bN * t)) / (pq.p * pq.p - pq.q * pq.q * eta);
+    log.u = gi.p * t + gi.q * (bN * t);
     log.kase.linear = b.label;
-    // Eigenvalue offsets lambda - 1 for the label.
-    double re[3] = {0, 0, 0}, im[3] = {0, 0, 0};
-    const double r1 = 0.5 * (E(0, 0) + E(1, 1));
-    const double h = 0.5 * (E(0, 0) - E(1, 1));
-    const double d = h * h + E(0, 1) * E(1, 0);
-    const double s = std::sqrt(std::abs(d));
-    if (d >= 0) {
-      re[0] = r1 + s;
-      re[1] = r1 - s;
-    } else {
-      re[0] = re[1] = r1;
-      im[0] = s;
-      im[1] = -s;
-    }
-    const double lmax = std::max(std::abs(1.0 + r1) + s, 1.0);
+    const double re[3] = {b.re[0], b.re[1], 0}, im[3] = {b.im[0], b.im[1], 0};
+    const double lmax = 1.0 + std::abs(b.r1) + std::sqrt(std::abs(b.d));
     log.kase.translation = translationCase<2>(re, im, lmax, E, opt.case_tolerance);
-    sp = detail::Spectral<2>{};
-    sp.m = b.alpha;
-    sp.eta = eta;
-    sp.N = bN;
-    sp.Piu = log.u;
-    sp.Nu = bN * log.u;
+    if (sp)
+      fillSplit<2>(*sp, 0.0, b.alpha, eta, bN.squaredNorm(), Eigen::Matrix2d::Zero(), Eigen::Matrix2d::Identity(),
+                   bN, log.u);
     return true;
   }
 };
 
 template <>
 struct LogWork<3> {
-  static bool run(const Affine3& A, const EarOptions& opt, AffineLog3& log, detail::Spectral<3>& sp,
+  static bool run(const Affine3& A, const EarOptions& opt, AffineLog3& log, detail::Spectral<3>* sp,
                   Failure& fail) {
     if (!screen(A, fail)) return false;
     const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
@@ -279,13 +336,14 @@ struct LogWork<3> {
     const Eigen::Vector3d& t = A.translation();
     const double s = E.trace() / 3.0;  // mean eigenvalue - 1
     const double lbar = 1.0 + s;
-    const Eigen::Matrix3d F = E - s * I;  // traceless: eigenvalues y_k = lambda_k - lbar
+    Eigen::Matrix3d F = E;
+    F.diagonal().array() -= s;  // traceless: eigenvalues y_k = lambda_k - lbar
     const double P = -0.5 * (F.cwiseProduct(F.transpose())).sum();
     const double Q = -F.determinant();
     const CubicRoots roots = detail::depressedCubic(P, Q);
     const double* y = roots.y;
     const double spread = roots.real3 ? std::max(std::abs(y[0]), std::abs(y[2]))
-                                      : std::max(std::abs(y[0]), std::hypot(y[1], y[2]));
+                                      : std::max(std::abs(y[0]), std::sqrt(y[1] * y[1] + y[2] * y[2]));
 
     // Labels from the eigenvalue offsets lambda_k - 1.
     double re[3], im[3] = {0, 0, 0};
@@ -297,10 +355,8 @@ struct LogWork<3> {
       im[1] = y[2];
       im[2] = -y[2];
     }
-    const double lmax = std::abs(lbar) + spread;
-    log.kase.translation = translationCase<3>(re, im, lmax, E, opt.case_tolerance);
+    log.kase.translation = translationCase<3>(re, im, std::abs(lbar) + spread, E, opt.case_tolerance);
 
-    sp = detail::Spectral<3>{};
     if (lbar > 0 && spread <= kTripleSpread * lbar) return seriesForm(F, s, P, Q, spread, t, log, sp);
 
     // Choose the simple positive eigenvalue mu to split off: the real one of a complex pair,
@@ -314,7 +370,8 @@ struct LogWork<3> {
     }
     // Right (e) and left (f) eigenvectors of mu from the largest cross products of the rows /
     // columns of K = L - mu 1.
-    const Eigen::Matrix3d K = F - ymu * I;
+    Eigen::Matrix3d K = F;
+    K.diagonal().array() -= ymu;
     auto largestCross = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
       const Eigen::Vector3d x0 = a.cross(b), x1 = a.cross(c), x2 = b.cross(c);
       const double n0 = x0.squaredNorm(), n1 = x1.squaredNorm(), n2 = x2.squaredNorm();
@@ -323,10 +380,10 @@ struct LogWork<3> {
     };
     const Eigen::Vector3d e = largestCross(K.row(0), K.row(1), K.row(2));
     Eigen::Vector3d f = largestCross(K.col(0), K.col(1), K.col(2));
-    const double fn = f.norm();
-    if (!(fn > 0) || !(e.squaredNorm() > 0))
+    const double fn2 = f.squaredNorm();
+    if (!(fn2 > 0) || !(e.squaredNorm() > 0))
       return seriesForm(F, s, P, Q, spread, t, log, sp);  // unreachable for a simple mu
-    f /= fn;
+    f /= std::sqrt(fn2);
     // Canonical orientation of the invariant plane (matters for the half-turn convention only).
     int imax = 0;
     for (int k = 1; k < 3; ++k)
@@ -335,35 +392,40 @@ struct LogWork<3> {
     Eigen::Matrix<double, 3, 2> W;
     W.col(0) = orthogonalTo(f);
     W.col(1) = f.cross(W.col(0));
-    const Eigen::Matrix3d P1 = e * f.transpose() / f.dot(e);
-    const Eigen::Matrix3d Pi = I - P1;
-    const Eigen::Matrix2d E2 = W.transpose() * E * W;
+    // P1 = e f^T / (f.e) projects on e along the invariant plane f-perp; Pi = 1 - P1 = W Kp with
+    // Kp = W^T - (W^T e) f^T / (f.e). The block of L in the plane is L2 = W^T L W.
+    const Eigen::Vector3d ef = e / f.dot(e);
+    const Eigen::Matrix<double, 2, 3> Kp = W.transpose() - (W.transpose() * ef) * f.transpose();
+    const Eigen::Matrix<double, 3, 2> EW = E * W;
+    const Eigen::Matrix2d E2 = W.transpose() * EW;
     Block2Log b;
     if (!logBlock2(E2, opt, b, fail)) return false;
     log.kase.linear = b.label;
     const double lam = std::log1p(muE);
-    const Eigen::Matrix3d Nt = b.beta * (W * b.N * W.transpose()) * Pi;
-    const double eta = b.beta * b.beta * b.d;
-    log.M = lam * P1 + b.alpha * Pi + Nt;
-    const BlockCoefficients pq = detail::phiBlock(b.alpha, eta);
-    const Eigen::Vector3d Pt = P1 * t, Pit = Pi * t, Ntt = Nt * t;
-    log.u = Pt / detail::phi(lam) + (pq.p * Pit - pq.q * Ntt) / (pq.p * pq.p - pq.q * pq.q * eta);
-    sp.lam = lam;
-    sp.m = b.alpha;
-    sp.eta = eta;
-    sp.P = P1;
-    sp.Pi = Pi;
-    sp.N = Nt;
-    sp.Pu = P1 * log.u;
-    sp.Piu = Pi * log.u;
-    sp.Nu = Nt * log.u;
+    const Eigen::Matrix<double, 3, 2> WN = W * (b.beta * b.N);
+    const double eta = b.eta();
+    // M = lam P1 + alpha Pi + Nt = alpha 1 + (lam - alpha) P1 + WN Kp.
+    log.M.noalias() = WN * Kp;
+    log.M.noalias() += ((lam - b.alpha) * ef) * f.transpose();
+    log.M.diagonal().array() += b.alpha;
+    // u = phi(M)^-1 t = P1 t / phi(lam) + (p Pi + q Nt) t with phi(lam) = (mu - 1) / ln mu and
+    // p + q X = phi(X)^-1 for the block X; Pi t = t - ef (f.t), Nt t = WN (Kp t).
+    const BlockCoefficients gi = b.phiInverseOfLog();
+    const double phiLam = std::abs(lam) < 1e-8 ? detail::phi(lam) : muE / lam;
+    const double ft = f.dot(t);
+    log.u = (ft / phiLam - gi.p * ft) * ef + gi.p * t + gi.q * (WN * (Kp * t));
+    if (sp) {
+      const Eigen::Matrix3d P1 = ef * f.transpose();
+      const Eigen::Matrix3d Pi = I - P1;  // (= W Kp; this form keeps P1 + Pi = 1 exactly)
+      fillSplit<3>(*sp, lam, b.alpha, eta, b.beta * b.beta * b.N.squaredNorm(), P1, Pi, WN * Kp, log.u);
+    }
     return true;
   }
 
   // Near a triple eigenvalue: L = lbar (1 + N) with N = F / lbar of spectral radius <= 2%,
   // log L = ln lbar + log(1 + N) summed with Cayley-Hamilton (N^3 = -Pn N - Qn).
   static bool seriesForm(const Eigen::Matrix3d& F, double s, double P, double Q, double spread,
-                         const Eigen::Vector3d& t, AffineLog3& log, detail::Spectral<3>& sp) {
+                         const Eigen::Vector3d& t, AffineLog3& log, detail::Spectral<3>* sp) {
     const double lbar = 1.0 + s;
     const Eigen::Matrix3d Nn = F / lbar;
     const double rhoN = spread / lbar;
@@ -395,17 +457,20 @@ struct LogWork<3> {
     const Eigen::Matrix3d Z2 = Z * Z;
     const Eigen::Matrix3d G = g[0] * I + g[1] * Z + g[2] * Z2;
     log.u = G.partialPivLu().solve(t);
-    sp.series = true;
-    sp.ell = ell;
-    sp.Z = Z;
-    sp.Z2 = Z2;
-    sp.k0 = kz0;
-    sp.k1 = kz1;
-    sp.k2 = kz2;
-    sp.rho = rhoZ;
-    sp.u = log.u;
-    sp.Zu = Z * log.u;
-    sp.Z2u = Z2 * log.u;
+    if (sp) {
+      *sp = detail::Spectral<3>{};
+      sp->series = true;
+      sp->ell = ell;
+      sp->Z = Z;
+      sp->Z2 = Z2;
+      sp->k0 = kz0;
+      sp->k1 = kz1;
+      sp->k2 = kz2;
+      sp->rho = rhoZ;
+      sp->u = log.u;
+      sp->Zu = Z * log.u;
+      sp->Z2u = Z2 * log.u;
+    }
     return true;
   }
 };
@@ -456,16 +521,15 @@ typename AffineLog<D>::Homogeneous AffineLog<D>::homogeneous() const {
 template <int D>
 AffineLog<D> log(const Affine<D>& A, const EarOptions& options) {
   AffineLog<D> out;
-  detail::Spectral<D> sp;
   Failure f;
-  if (!LogWork<D>::run(A, options, out, sp, f)) raise(f);
+  if (!LogWork<D>::run(A, options, out, nullptr, f)) raise(f);
   return out;
 }
 
 template <int D>
 Span<D>::Span(const Affine<D>& A, const EarOptions& options) : relative_(A) {
   Failure f;
-  if (!LogWork<D>::run(A, options, log_, spec_, f)) raise(f);
+  if (!LogWork<D>::run(A, options, log_, &spec_, f)) raise(f);
 }
 
 template <int D>
@@ -500,21 +564,26 @@ Affine<D> Span<D>::power(double t) const {
   }
   // Split form: exp(tM) = e^{t lam} P + e^{t m} (C Pi + t S N), C, S at t^2 eta, written as
   // 1 + (e^{t lam} - 1) P + (e^{tm} C - 1) Pi + e^{tm} t S N (exactly 1 at t = 0, and accurate
-  // relative to A^t - 1 for small t); translation t [phi(t lam) P u + p Pi u + t q N u] with
-  // (p, q) = phiBlock(t m, t^2 eta).
-  const double eta = t * t * sp.eta;
-  const double a = t * sp.m;
-  const CoshSinhc cs = detail::coshSinhc(eta);
-  const double em = std::expm1(a);
-  Linear Lt = (em * cs.c + cs.cm1) * sp.Pi + ((1.0 + em) * t * cs.s) * sp.N;
-  Lt.diagonal().array() += 1.0;
-  const BlockCoefficients pq = detail::phiBlock(a, eta);
-  Vec tt = t * (pq.p * sp.Piu + (t * pq.q) * sp.Nu);
+  // relative to A^t - 1 for small t). Translation: t phi(t lam) P u plus, for the block, either
+  // (e^{tM} - 1) w with the stored w = M^-1 u (well-conditioned block), or
+  // t [p Pi u + t q N u] with (p, q) = phiBlock(t m, t^2 eta).
+  const detail::BlockExp be = detail::blockExp(t * sp.m, t * t * sp.eta);
+  const double c1 = be.c1(), s1t = be.s1() * t;
+  double emx = 0.0;
+  if constexpr (D == 3) emx = std::expm1(t * sp.lam);
+  // With P = 1 - Pi: 1 + emx P + c1 Pi = (1 + emx) 1 + (c1 - emx) Pi.
+  Linear Lt = (c1 - emx) * sp.Pi + s1t * sp.N;
+  Lt.diagonal().array() += 1.0 + emx;
+  Vec tt;
+  if (sp.via_inverse) {
+    tt = c1 * sp.Piu + s1t * sp.Nu;
+  } else {
+    const BlockCoefficients pq = detail::phiBlock(be.a, be.eta, c1, be.s1(), std::nan(""));
+    tt = t * (pq.p * sp.Piu + (t * pq.q) * sp.Nu);
+  }
   if constexpr (D == 3) {
     const double x = t * sp.lam;
-    const double emx = std::expm1(x);
-    Lt += emx * sp.P;
-    tt += (t * (std::abs(x) < 1e-8 ? 1.0 + 0.5 * x : emx / x)) * sp.Pu;
+    tt += (std::abs(x) < 1e-8 ? t * (1.0 + 0.5 * x) : emx * sp.inv_lam) * sp.Pu;
   }
   return Affine<D>(Lt, tt);
 }
@@ -553,9 +622,8 @@ template <int D>
 Existence realLogExists(const Affine<D>& A, const EarOptions& options) noexcept {
   try {
     AffineLog<D> lg;
-    detail::Spectral<D> sp;
     Failure f;
-    if (LogWork<D>::run(A, options, lg, sp, f)) return {};
+    if (LogWork<D>::run(A, options, lg, nullptr, f)) return {};
     return {false, f.code, f.message};
   } catch (const std::exception& e) {  // only std::bad_alloc from message building
     return {false, ErrorCode::InvalidArgument, e.what()};

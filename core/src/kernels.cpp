@@ -6,7 +6,6 @@
 namespace steady::detail {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kTiny = 0x1.0p-56;  // series truncation threshold (relative)
 }  // namespace
 
@@ -36,50 +35,91 @@ double phi(double x) {
   return std::expm1(x) / x;
 }
 
-BlockCoefficients phiBlock(double a, double eta) {
+BlockExp blockExp(double a, double eta) { return {a, eta, std::expm1(a), coshSinhc(eta)}; }
+
+namespace {
+
+// 1/(n+1)! for n = 0..21.
+struct InverseFactorials {
+  double v[22];
+  InverseFactorials() {
+    double f = 1.0;
+    for (int n = 0; n < 22; ++n) {
+      f *= static_cast<double>(n + 1);
+      v[n] = 1.0 / f;
+    }
+  }
+};
+const InverseFactorials kInvFact;
+
+// Number of terms K of sum_{n<=K} X^n/(n+1)! for spectral radius r <= 1: the first omitted term
+// is bounded by (K+2) r^(K+1) / (K+2)! (|q_n| <= n r^(n-1)), kept below 2^-56.
+int phiSeriesTerms(double r) {
+  double rn = r;  // r^(K+1)
+  for (int K = 1; K < 20; ++K) {
+    rn *= r;
+    if (static_cast<double>(K + 2) * rn * kInvFact.v[K + 1] < kTiny) return K;
+  }
+  return 20;
+}
+
+}  // namespace
+
+BlockCoefficients phiBlock(double a, double eta, double c1, double s1, double detEm1) {
   const double h = std::sqrt(std::abs(eta));
   const double r = std::abs(a) + h;
   if (r <= 1.0) {
-    // sum_{n>=0} X^n/(n+1)!, X^n = p_n 1 + q_n N, X^{n+1} = (a p_n + eta q_n) 1 + (p_n + a q_n) N.
-    double pn = 1.0, qn = 0.0, P = 1.0, Q = 0.0;
-    double fact = 1.0;  // (n+1)!
-    double rn = 1.0;    // r^n
-    for (int n = 1; n <= 24; ++n) {
-      const double p1 = a * pn + eta * qn;
-      const double q1 = pn + a * qn;
-      pn = p1;
-      qn = q1;
-      fact *= static_cast<double>(n + 1);
-      P += pn / fact;
-      Q += qn / fact;
-      rn *= r;
-      // Next term: |p_{n+1}| <= r^{n+1}, |q_{n+1}| <= (n+1) r^n, both over (n+2)!.
-      if (static_cast<double>(n + 1) * rn / (fact * static_cast<double>(n + 2)) < kTiny) break;
+    // Horner: S_K = c_K, S_n = c_n + X S_{n+1}, (P + QN)(a + N) = (aP + eta Q) + (P + aQ) N.
+    const int K = phiSeriesTerms(r);
+    double P = kInvFact.v[K], Q = 0.0;
+    for (int n = K - 1; n >= 0; --n) {
+      const double Pn = kInvFact.v[n] + a * P + eta * Q;
+      Q = P + a * Q;
+      P = Pn;
     }
     return {P, Q};
   }
   if (h <= std::max(0.25, 0.25 * std::abs(a))) {
     // phi(X) X = e^X - 1 solved in the commutative algebra of X: divide by det X = x1 x2.
-    const CoshSinhc cs = coshSinhc(eta);
-    const double ea = std::exp(a), em = std::expm1(a);
     const double det = a * a - eta;
-    const double eCm1 = em * cs.c + cs.cm1;  // e^a C - 1
-    return {(a * eCm1 - eta * ea * cs.s) / det, (a * ea * cs.s - eCm1) / det};
+    return {(a * c1 - eta * s1) / det, (a * s1 - c1) / det};
   }
   if (eta > 0) {
-    const double f1 = phi(a + h), f2 = phi(a - h);
-    return {0.5 * (f1 + f2), (f1 - f2) / (2.0 * h)};
+    // x1,2 = a +- h, e^{x1,2} - 1 = c1 +- h s1. When det(e^X - 1) is known, the eigenvalue of
+    // e^X nearer 1 comes from it and its log from log1p, since a - h would cancel there.
+    double x1 = a + h, x2 = a - h;
+    double e1, e2;
+    if (std::isnan(detEm1)) {
+      e1 = std::expm1(x1);
+      e2 = std::expm1(x2);
+    } else {
+      e1 = c1 + h * s1;
+      e2 = c1 - h * s1;
+      if (std::abs(e1) >= std::abs(e2)) {
+        e2 = detEm1 / e1;
+        x2 = std::log1p(e2);
+        x1 = 2.0 * a - x2;
+      } else {
+        e1 = detEm1 / e2;
+        x1 = std::log1p(e1);
+        x2 = 2.0 * a - x1;
+      }
+    }
+    const double f1 = std::abs(x1) < 1e-8 ? 1.0 + 0.5 * x1 : e1 / x1;
+    const double f2 = std::abs(x2) < 1e-8 ? 1.0 + 0.5 * x2 : e2 / x2;
+    return {0.5 * (f1 + f2), (f1 - f2) / (x1 - x2)};
   }
-  // Complex pair z = a + i h: phi(z) = (e^z - 1)/z.
-  const double ea = std::exp(a), em = std::expm1(a);
-  const double sh = std::sin(h), ch = std::cos(h);
-  const double half = std::sin(0.5 * h);
-  const double nr = em * ch - 2.0 * half * half;  // Re(e^z - 1) = e^a cos h - 1
-  const double ni = ea * sh;                      // Im(e^z - 1)
+  // Complex pair z = a + i h: phi(z) = (e^z - 1)/z with e^z - 1 = c1 + i h s1.
+  const double nr = c1, ni = h * s1;
   const double zz = a * a + h * h;
   const double re = (nr * a + ni * h) / zz;
   const double im = (ni * a - nr * h) / zz;
   return {re, im / h};
+}
+
+BlockCoefficients phiBlock(double a, double eta) {
+  const BlockExp e = blockExp(a, eta);
+  return phiBlock(a, eta, e.c1(), e.s1(), std::nan(""));
 }
 
 CubicRoots depressedCubic(double P, double Q) {
@@ -106,10 +146,13 @@ CubicRoots depressedCubic(double P, double Q) {
     return out;
   }
   const double arg = std::clamp(-0.5 * Q / (m * m * m), -1.0, 1.0);
-  const double th = std::acos(arg) / 3.0;
-  out.y[0] = 2.0 * m * std::cos(th);
-  out.y[1] = 2.0 * m * std::cos(th - 2.0 * kPi / 3.0);
-  out.y[2] = 2.0 * m * std::cos(th + 2.0 * kPi / 3.0);
+  const double th = std::acos(arg) / 3.0;  // in [0, pi/3]
+  // cos(th -+ 2pi/3) = -cos(th)/2 +- sin(th) sqrt(3)/2.
+  const double c = std::cos(th), s = std::sin(th);
+  constexpr double kHalfSqrt3 = 0.86602540378443864676;
+  out.y[0] = 2.0 * m * c;
+  out.y[1] = m * (-c + 2.0 * kHalfSqrt3 * s);
+  out.y[2] = m * (-c - 2.0 * kHalfSqrt3 * s);
   return out;
 }
 

@@ -21,15 +21,31 @@ CoshSinhc coshSinhc(double x);
 double phi(double x);
 
 /// The coefficients of phi(a 1 + N) = p 1 + q N, N^2 = eta 1, where phi(X) = (e^X - 1) X^-1 =
-/// integral_0^1 e^{sX} ds. Regimes (spectral radius r = |a| + sqrt|eta|, h = sqrt|eta|):
-///  - r <= 1: power series sum X^n/(n+1)! with X^n = p_n + q_n N (adaptive length, <= 21 terms);
+/// integral_0^1 e^{sX} ds, for a block whose exponential is known:
+/// e^X - 1 = c1 1 + s1 N (c1 = e^a C - 1, s1 = e^a S). No transcendental function is called,
+/// except expm1 in the separated-real regime when `detEm1` (= det(e^X - 1), known exactly when
+/// e^X is a given matrix) is NaN. Regimes (spectral radius r = |a| + h, h = sqrt|eta|):
+///  - r <= 1: power series sum X^n/(n+1)! by Horner (at most 21 terms, fewer for small r);
 ///  - h <= max(1/4, |a|/4): closed form over det X = a^2 - eta, which is then >= 1/4 and whose
 ///    numerators do not cancel (close eigenvalues, both away from 0);
 ///  - eta > 0: (phi(x1) +- phi(x2)) over the well separated real eigenvalues x1,2 = a +- h;
-///  - eta < 0: real and imaginary parts of phi(a + i h) with |h| >= 1/4.
+///  - eta < 0: real and imaginary parts of phi(a + i h) with h >= 1/4.
 struct BlockCoefficients {
   double p, q;
 };
+BlockCoefficients phiBlock(double a, double eta, double c1, double s1, double detEm1);
+
+/// The exponential of a block a 1 + N (N^2 = eta 1): e^a (C 1 + S N), kept as expm1(a) and
+/// C, S, C - 1 at eta, so that callers can form e^a C - 1 = em C + (C - 1) without cancellation.
+struct BlockExp {
+  double a, eta, em;
+  CoshSinhc cs;
+  double c1() const { return em * cs.c + cs.cm1; }  ///< e^a C - 1
+  double s1() const { return (1.0 + em) * cs.s; }   ///< e^a S
+};
+BlockExp blockExp(double a, double eta);
+
+/// phiBlock for a block given by (a, eta) alone (computes its exponential first).
 BlockCoefficients phiBlock(double a, double eta);
 
 /// Roots of y^3 + P y + Q = 0. When `real3` is true, y[0] >= y[1] >= y[2] are the three real

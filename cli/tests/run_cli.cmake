@@ -1,0 +1,94 @@
+# Runs the steady tool once and checks what it did (cmake -P script, used by cli/CMakeLists.txt).
+#
+# -D variables:
+#   STEADY        the binary
+#   ARGS          its arguments, separated by '|' (an argument may contain blanks, not '|')
+#   WORKDIR       working directory (default: the current one)
+#   EXIT          expected exit status (default 0)
+#   STDERR_REGEX  regular expression that standard error must match
+#   STDOUT_REGEX  regular expression that standard output must match
+#   CHECKER       the steady_cli_json_check binary; with JSON:
+#   JSON          '|'-separated expectations on standard output (see tests/json_check.cpp)
+#   TOL           numeric tolerance for JSON (default 1e-12)
+#   SAME_AS       '|'-separated arguments of a second run whose standard output must be identical
+#   OUT           file that receives standard output (for the JSON check)
+#   STDIN         file fed to standard input (default: none)
+#
+# A failing run (EXIT != 0) must leave standard output empty and report
+# "steady: error [<reason>]: ..." on standard error.
+
+if(NOT DEFINED WORKDIR OR WORKDIR STREQUAL "")
+  set(WORKDIR ".")
+endif()
+if(NOT DEFINED EXIT OR EXIT STREQUAL "")
+  set(EXIT 0)
+endif()
+if(NOT DEFINED TOL OR TOL STREQUAL "")
+  set(TOL 1e-12)
+endif()
+
+string(REPLACE "|" ";" args "${ARGS}")
+set(input "")
+if(DEFINED STDIN AND NOT STDIN STREQUAL "")
+  set(input INPUT_FILE "${STDIN}")
+endif()
+execute_process(COMMAND "${STEADY}" ${args}
+  WORKING_DIRECTORY "${WORKDIR}"
+  ${input}
+  RESULT_VARIABLE status
+  OUTPUT_VARIABLE out
+  ERROR_VARIABLE err)
+
+set(failures "")
+function(fail what)
+  set(failures "${failures}  - ${what}\n" PARENT_SCOPE)
+endfunction()
+
+if(NOT status STREQUAL "${EXIT}")
+  fail("exit status ${status}, expected ${EXIT}")
+endif()
+if(NOT EXIT EQUAL 0)
+  if(NOT out STREQUAL "")
+    fail("standard output is not empty after a failure")
+  endif()
+  if(NOT err MATCHES "^steady: error \\[[a-z0-9-]+\\]: ")
+    fail("standard error does not start with 'steady: error [<reason>]: '")
+  endif()
+endif()
+if(DEFINED STDERR_REGEX AND NOT STDERR_REGEX STREQUAL "" AND NOT err MATCHES "${STDERR_REGEX}")
+  fail("standard error does not match '${STDERR_REGEX}'")
+endif()
+if(DEFINED STDOUT_REGEX AND NOT STDOUT_REGEX STREQUAL "" AND NOT out MATCHES "${STDOUT_REGEX}")
+  fail("standard output does not match '${STDOUT_REGEX}'")
+endif()
+
+if(DEFINED JSON AND NOT JSON STREQUAL "")
+  file(WRITE "${OUT}" "${out}")
+  string(REPLACE "|" ";" specs "${JSON}")
+  execute_process(COMMAND "${CHECKER}" "${OUT}" "${TOL}" ${specs}
+    RESULT_VARIABLE check_status
+    ERROR_VARIABLE check_err)
+  if(NOT check_status EQUAL 0)
+    fail("JSON output does not match:\n${check_err}")
+  endif()
+endif()
+
+if(DEFINED SAME_AS AND NOT SAME_AS STREQUAL "")
+  string(REPLACE "|" ";" args2 "${SAME_AS}")
+  execute_process(COMMAND "${STEADY}" ${args2}
+    WORKING_DIRECTORY "${WORKDIR}"
+    RESULT_VARIABLE status2
+    OUTPUT_VARIABLE out2
+    ERROR_VARIABLE err2)
+  if(NOT status2 EQUAL 0)
+    fail("the comparison run failed with status ${status2}: ${err2}")
+  elseif(NOT out STREQUAL out2)
+    fail("standard output differs from that of: steady ${args2}")
+  endif()
+endif()
+
+if(NOT failures STREQUAL "")
+  string(REPLACE ";" " " shown "${args}")
+  message(FATAL_ERROR "steady ${shown}\n(in ${WORKDIR})\n${failures}"
+                      "--- exit status: ${status}\n--- stdout:\n${out}\n--- stderr:\n${err}")
+endif()
