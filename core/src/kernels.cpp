@@ -53,14 +53,21 @@ struct InverseFactorials {
 const InverseFactorials kInvFact;
 
 // Number of terms K of sum_{n<=K} X^n/(n+1)! for spectral radius r <= 1: the first omitted term
-// is bounded by (K+2) r^(K+1) / (K+2)! (|q_n| <= n r^(n-1)), kept below 2^-56.
-int phiSeriesTerms(double r) {
-  double rn = r;  // r^(K+1)
-  for (int K = 1; K < 20; ++K) {
-    rn *= r;
-    if (static_cast<double>(K + 2) * rn * kInvFact.v[K + 1] < kTiny) return K;
+// is bounded by (K+2) r^(K+1) / (K+2)! (|q_n| <= n r^(n-1)), kept below 2^-56. rmax[K] is the
+// largest r for which K terms suffice.
+struct SeriesRadii {
+  double rmax[21];
+  SeriesRadii() {
+    for (int K = 0; K <= 20; ++K)
+      rmax[K] = std::pow(kTiny / (static_cast<double>(K + 2) * kInvFact.v[K + 1]), 1.0 / (K + 1));
   }
-  return 20;
+};
+const SeriesRadii kSeriesRadii;
+
+int phiSeriesTerms(double r) {
+  int K = 1;
+  while (K < 20 && r > kSeriesRadii.rmax[K]) ++K;
+  return K;
 }
 
 }  // namespace
@@ -68,6 +75,7 @@ int phiSeriesTerms(double r) {
 BlockCoefficients phiBlock(double a, double eta, double c1, double s1, double detEm1) {
   const double h = std::sqrt(std::abs(eta));
   const double r = std::abs(a) + h;
+  const double det = a * a - eta;
   if (r <= 1.0) {
     // Horner: S_K = c_K, S_n = c_n + X S_{n+1}, (P + QN)(a + N) = (aP + eta Q) + (P + aQ) N.
     const int K = phiSeriesTerms(r);
@@ -80,8 +88,8 @@ BlockCoefficients phiBlock(double a, double eta, double c1, double s1, double de
     return {P, Q};
   }
   if (h <= std::max(0.25, 0.25 * std::abs(a))) {
-    // phi(X) X = e^X - 1 solved in the commutative algebra of X: divide by det X = x1 x2.
-    const double det = a * a - eta;
+    // phi(X) X = e^X - 1 solved in the commutative algebra of X: divide by det X = x1 x2, which
+    // is >= 1/4 here (close eigenvalues, both away from 0), so the numerators do not cancel.
     return {(a * c1 - eta * s1) / det, (a * s1 - c1) / det};
   }
   if (eta > 0) {
