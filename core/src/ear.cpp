@@ -42,7 +42,7 @@ constexpr double kSeriesTiny = 0x1.0p-56;
 // Largest Frobenius condition number of the log's 2D block for which a span evaluates the
 // translation as (e^{tM} - 1) M^-1 u (cheaper; error grows with this condition number).
 #ifndef STEADY_VIA_INVERSE_CONDITION
-#define STEADY_VIA_INVERSE_CONDITION 4.0
+#define STEADY_VIA_INVERSE_CONDITION 8.0
 #endif
 constexpr double kViaInverseCondition = STEADY_VIA_INVERSE_CONDITION;
 
@@ -280,6 +280,8 @@ void fillSplit(detail::Spectral<D>& sp, double lam, double alpha, double eta, do
   sp.inv_lam = lam != 0.0 ? 1.0 / lam : 0.0;  // used only where |t lam| >= 1e-8
   sp.m = alpha;
   sp.eta = eta;
+  sp.omega = std::sqrt(std::abs(eta));
+  sp.inv_omega = sp.omega > 0 ? 1.0 / sp.omega : 0.0;  // used only where |t omega| >= 1e-3
   sp.P = P;
   sp.Pi = Pi;
   sp.N = Nt;
@@ -567,8 +569,29 @@ Affine<D> Span<D>::power(double t) const {
   // relative to A^t - 1 for small t). Translation: t phi(t lam) P u plus, for the block, either
   // (e^{tM} - 1) w with the stored w = M^-1 u (well-conditioned block), or
   // t [p Pi u + t q N u] with (p, q) = phiBlock(t m, t^2 eta).
-  const detail::BlockExp be = detail::blockExp(t * sp.m, t * t * sp.eta);
-  const double c1 = be.c1(), s1t = be.s1() * t;
+  // Block exponential e^{t m} (C + t S N) with C = cosh or cos of w = t sqrt|eta| and
+  // t S = sinh(w)/sqrt|eta| or sin(w)/sqrt|eta| (1/sqrt|eta| stored); Taylor terms for small w.
+  const double a = t * sp.m;
+  const double em = std::expm1(a), ea = 1.0 + em;
+  const double w = t * sp.omega;
+  double c, cm1, tS;  // C, C - 1, t S
+  if (std::abs(w) < 1e-3) {
+    const CoshSinhc cs = detail::coshSinhc(t * t * sp.eta);
+    c = cs.c;
+    cm1 = cs.cm1;
+    tS = t * cs.s;
+  } else if (sp.eta < 0) {
+    const double sw = std::sin(w), cw = std::cos(w);
+    c = cw;
+    cm1 = cw > 0 ? -sw * sw / (1.0 + cw) : cw - 1.0;
+    tS = sw * sp.inv_omega;
+  } else {
+    const double ex = std::expm1(std::abs(w)), e = ex + 1.0;
+    cm1 = 0.5 * ex * ex / e;
+    c = 1.0 + cm1;
+    tS = std::copysign(0.5 * ex * (ex + 2.0) / e, t) * sp.inv_omega;
+  }
+  const double c1 = em * c + cm1, s1t = ea * tS;
   double emx = 0.0;
   if constexpr (D == 3) emx = std::expm1(t * sp.lam);
   // With P = 1 - Pi: 1 + emx P + c1 Pi = (1 + emx) 1 + (c1 - emx) Pi.
@@ -578,7 +601,8 @@ Affine<D> Span<D>::power(double t) const {
   if (sp.via_inverse) {
     tt = c1 * sp.Piu + s1t * sp.Nu;
   } else {
-    const BlockCoefficients pq = detail::phiBlock(be.a, be.eta, c1, be.s1(), std::nan(""));
+    // (t = 0 falls in phiBlock's series branch, which does not read s1.)
+    const BlockCoefficients pq = detail::phiBlock(a, t * t * sp.eta, c1, t != 0.0 ? s1t / t : ea, std::nan(""));
     tt = t * (pq.p * sp.Piu + (t * pq.q) * sp.Nu);
   }
   if constexpr (D == 3) {

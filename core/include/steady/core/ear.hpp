@@ -113,7 +113,7 @@ struct Spectral {
   using Linear = typename Affine<D>::Linear;
   using Vector = typename Affine<D>::Vector;
   bool series = false, via_inverse = false;
-  double lam = 0, inv_lam = 0, m = 0, eta = 0;
+  double lam = 0, inv_lam = 0, m = 0, eta = 0, omega = 0, inv_omega = 0;
   Linear P = Linear::Zero(), Pi = Linear::Identity(), N = Linear::Zero();
   Vector Pu = Vector::Zero(), Piu = Vector::Zero(), Nu = Vector::Zero();
   double ell = 0, k0 = 0, k1 = 0, k2 = 0, rho = 0;
