@@ -131,20 +131,18 @@ bool logBlock2(const Eigen::Matrix2d& E, const EarOptions& opt, Block2Log& out, 
   out.alpha = 0.5 * std::log1p(detm1);
   out.r1 = r1;
   out.detE = E.determinant();
-  {
-    const double s = std::sqrt(std::abs(d));
-    if (d >= 0) {
-      out.re[0] = r1 + s;
-      out.re[1] = r1 - s;
-    } else {
-      out.re[0] = out.re[1] = r1;
-      out.im[0] = s;
-      out.im[1] = -s;
-    }
+  const double sq = std::sqrt(std::abs(d));  // |eigenvalue - r|
+  if (d >= 0) {
+    out.re[0] = r1 + sq;
+    out.re[1] = r1 - sq;
+  } else {
+    out.re[0] = out.re[1] = r1;
+    out.im[0] = sq;
+    out.im[1] = -sq;
   }
-  const double nN = N.norm();
   const double ctol = opt.case_tolerance;
-  if (r < 0 && nN <= opt.half_turn_tolerance * -r) {
+  const double htol = opt.half_turn_tolerance;
+  if (r < 0 && N.squaredNorm() <= htol * htol * r * r) {
     // S2: a half turn with uniform scale sqrt(det): log = ln k 1 + pi (+-J).
     Eigen::Matrix2d J;
     J << 0.0, -1.0, 1.0, 0.0;
@@ -157,18 +155,18 @@ bool logBlock2(const Eigen::Matrix2d& E, const EarOptions& opt, Block2Log& out, 
   }
   out.N = N;
   out.d = d;
-  const double scale = std::sqrt(det);  // |eigenvalue| of a complex pair / geometric mean
   if (d < 0) {
     // Complex pair r +- i w: beta = theta / w with theta = atan2(w, r) in (0, pi).
-    const double w = std::sqrt(-d);
+    const double w = sq;
     out.beta = std::atan2(w, r) / w;
     out.s1 = 1.0 / out.beta;
-    out.label = r > 0 && 2.0 * w <= ctol * scale ? LinearCase::DoubleEigenvalue : LinearCase::ComplexPair;
+    // |lambda| = sqrt(det): a double eigenvalue when 2 w <= ctol sqrt(det).
+    out.label = r > 0 && 4.0 * w * w <= ctol * ctol * det ? LinearCase::DoubleEigenvalue : LinearCase::ComplexPair;
     return true;
   }
   if (r > 0) {
     // Two positive eigenvalues r +- s: beta = atanh(s / r) / s = ln(l1 / l2) / (l1 - l2).
-    const double s = std::sqrt(d);
+    const double s = sq;
     const double z = s / r;
     if (z < 1e-8)
       out.beta = (1.0 + z * z / 3.0) / r;
@@ -182,7 +180,7 @@ bool logBlock2(const Eigen::Matrix2d& E, const EarOptions& opt, Block2Log& out, 
     out.label = 2.0 * s <= ctol * (r + s) ? LinearCase::DoubleEigenvalue : LinearCase::DistinctReal;
     return true;
   }
-  const double s = std::sqrt(d);
+  const double s = sq;
   if (s > ctol * -r)
     fail = {ErrorCode::NoRealLog,
             "the linear part has two distinct negative eigenvalues (" + fmt(r + s) + ", " +
@@ -190,11 +188,11 @@ bool logBlock2(const Eigen::Matrix2d& E, const EarOptions& opt, Block2Log& out, 
                 "), so it has no real logarithm and no SAM connects these poses; insert an "
                 "intermediate pose (for example the pose half-way along another interpolation) "
                 "and use two SAM spans"};
-  else if (nN <= ctol * -r)
+  else if (N.norm() <= ctol * -r)
     fail = {ErrorCode::NoRealLog,
             "the linear part is nearly a half turn but has two slightly different negative "
             "eigenvalues (" + fmt(r + s) + ", " + fmt(r - s) + ", relative deviation " +
-                fmt(nN / -r) + " above EarOptions::half_turn_tolerance = " +
+                fmt(N.norm() / -r) + " above EarOptions::half_turn_tolerance = " +
                 fmt(opt.half_turn_tolerance) +
                 "), so it has no real logarithm; if an exact half turn is meant, make the two "
                 "scalings equal or raise the tolerance, otherwise insert an intermediate pose"};
