@@ -51,13 +51,14 @@ void requireFinite(const steady::Affine<D>& a, const std::string& what) {
 template <int D>
 std::string pow(const std::string& affinity, double t, const steady::EarOptions& options) {
   const steady::Affine<D> A = readAffinity<D>(affinity, "--affinity");
-  const steady::AffineLog<D> lg = steady::log(A, options);
-  const steady::Affine<D> At = steady::pow(A, t, options);
+  if (!std::isfinite(t)) throw steady::Error(steady::ErrorCode::NonFinite, "the exponent t is not finite");
+  const steady::Span<D> span(A, options);  // one log, reused for the power
+  const steady::Affine<D> At = span.power(t);
   requireFinite(At, "A^t");
   Json out = Json::object();
-  out["case"] = steady::to_string(lg.kase);
+  out["case"] = steady::to_string(span.log().kase);
   out["result"] = matrixJson(At);
-  out["log"] = logJson(lg);
+  out["log"] = logJson(span.log());
   return formatJson(out);
 }
 
