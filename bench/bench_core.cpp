@@ -124,14 +124,14 @@ const Data3& data3() {
   return d;
 }
 
-// ---- steady ---------------------------------------------------------------------------------
-
-void BM_EarLog2(benchmark::State& state) {
-  const auto& A = data2().A;
+// Runs op(i) for i = 0, 1, 2, ... (mod kCount), one call per iteration, keeping each result
+// alive; an exception skips the benchmark with its message.
+template <class Op>
+void cycle(benchmark::State& state, Op op) {
   std::size_t i = 0;
   try {
     for (auto _ : state) {
-      auto r = steady::log(A[i]);
+      auto r = op(i);
       benchmark::DoNotOptimize(r);
       i = (i + 1) & kMask;
     }
@@ -142,37 +142,22 @@ void BM_EarLog2(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations());
 }
 
+// ---- steady ---------------------------------------------------------------------------------
+
+void BM_EarLog2(benchmark::State& state) {
+  const auto& A = data2().A;
+  cycle(state, [&](std::size_t i) { return steady::log(A[i]); });
+}
+
 void BM_EarLog3(benchmark::State& state) {
   const auto& A = data3().A;
-  std::size_t i = 0;
-  try {
-    for (auto _ : state) {
-      auto r = steady::log(A[i]);
-      benchmark::DoNotOptimize(r);
-      i = (i + 1) & kMask;
-    }
-  } catch (const std::exception& e) {
-    state.SkipWithError(e.what());
-    return;
-  }
-  state.SetItemsProcessed(state.iterations());
+  cycle(state, [&](std::size_t i) { return steady::log(A[i]); });
 }
 
 void BM_EarPow3(benchmark::State& state) {
   const auto& A = data3().A;
   const auto& ts = exponents();
-  std::size_t i = 0;
-  try {
-    for (auto _ : state) {
-      auto r = steady::pow(A[i], ts[i]);
-      benchmark::DoNotOptimize(r);
-      i = (i + 1) & kMask;
-    }
-  } catch (const std::exception& e) {
-    state.SkipWithError(e.what());
-    return;
-  }
-  state.SetItemsProcessed(state.iterations());
+  cycle(state, [&](std::size_t i) { return steady::pow(A[i], ts[i]); });
 }
 
 void BM_EarSpanEval3(benchmark::State& state) {
@@ -181,104 +166,50 @@ void BM_EarSpanEval3(benchmark::State& state) {
     state.SkipWithError(("could not build every Span3: " + d.error).c_str());
     return;
   }
-  const auto& spans = d.spans;
   const auto& ts = exponents();
-  std::size_t i = 0;
-  for (auto _ : state) {
-    auto r = spans[i].power(ts[i]);
-    benchmark::DoNotOptimize(r);
-    i = (i + 1) & kMask;
-  }
-  state.SetItemsProcessed(state.iterations());
+  cycle(state, [&](std::size_t i) { return d.spans[i].power(ts[i]); });
 }
 
 // Extra: the one-off cost that BM_EarSpanEval3 leaves out (log + spectral form).
 void BM_EarSpanBuild3(benchmark::State& state) {
   const auto& A = data3().A;
-  std::size_t i = 0;
-  try {
-    for (auto _ : state) {
-      steady::Span3 s(A[i]);
-      benchmark::DoNotOptimize(s);
-      i = (i + 1) & kMask;
-    }
-  } catch (const std::exception& e) {
-    state.SkipWithError(e.what());
-    return;
-  }
-  state.SetItemsProcessed(state.iterations());
+  cycle(state, [&](std::size_t i) { return steady::Span3(A[i]); });
 }
 
 // ---- Eigen MatrixFunctions peers ------------------------------------------------------------
 
 void BM_EigenLog2(benchmark::State& state) {
   const auto& L = data2().L;
-  std::size_t i = 0;
-  for (auto _ : state) {
-    Eigen::Matrix2d r = L[i].log();
-    benchmark::DoNotOptimize(r);
-    i = (i + 1) & kMask;
-  }
-  state.SetItemsProcessed(state.iterations());
+  cycle(state, [&](std::size_t i) { return Eigen::Matrix2d(L[i].log()); });
 }
 
 // Extra: the 2D affinity as Eigen users would pass it (3x3 homogeneous).
 void BM_EigenLog2Hom(benchmark::State& state) {
   const auto& H = data2().H;
-  std::size_t i = 0;
-  for (auto _ : state) {
-    Eigen::Matrix3d r = H[i].log();
-    benchmark::DoNotOptimize(r);
-    i = (i + 1) & kMask;
-  }
-  state.SetItemsProcessed(state.iterations());
+  cycle(state, [&](std::size_t i) { return Eigen::Matrix3d(H[i].log()); });
 }
 
 void BM_EigenLog3(benchmark::State& state) {
   const auto& L = data3().L;
-  std::size_t i = 0;
-  for (auto _ : state) {
-    Eigen::Matrix3d r = L[i].log();
-    benchmark::DoNotOptimize(r);
-    i = (i + 1) & kMask;
-  }
-  state.SetItemsProcessed(state.iterations());
+  cycle(state, [&](std::size_t i) { return Eigen::Matrix3d(L[i].log()); });
 }
 
 void BM_EigenLog4(benchmark::State& state) {
   const auto& H = data3().H;
-  std::size_t i = 0;
-  for (auto _ : state) {
-    Eigen::Matrix4d r = H[i].log();
-    benchmark::DoNotOptimize(r);
-    i = (i + 1) & kMask;
-  }
-  state.SetItemsProcessed(state.iterations());
+  cycle(state, [&](std::size_t i) { return Eigen::Matrix4d(H[i].log()); });
 }
 
 // exp(t X) with X the precomputed homogeneous log: what Span3::power(t) computes.
 void BM_EigenExp4(benchmark::State& state) {
   const auto& X = data3().X;
   const auto& ts = exponents();
-  std::size_t i = 0;
-  for (auto _ : state) {
-    Eigen::Matrix4d r = (ts[i] * X[i]).exp();
-    benchmark::DoNotOptimize(r);
-    i = (i + 1) & kMask;
-  }
-  state.SetItemsProcessed(state.iterations());
+  cycle(state, [&](std::size_t i) { return Eigen::Matrix4d((ts[i] * X[i]).exp()); });
 }
 
 void BM_EigenPow4(benchmark::State& state) {
   const auto& H = data3().H;
   const auto& ts = exponents();
-  std::size_t i = 0;
-  for (auto _ : state) {
-    Eigen::Matrix4d r = H[i].pow(ts[i]);
-    benchmark::DoNotOptimize(r);
-    i = (i + 1) & kMask;
-  }
-  state.SetItemsProcessed(state.iterations());
+  cycle(state, [&](std::size_t i) { return Eigen::Matrix4d(H[i].pow(ts[i])); });
 }
 
 BENCHMARK(BM_EarLog2)->Unit(benchmark::kNanosecond);
