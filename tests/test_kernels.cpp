@@ -63,6 +63,16 @@ TEST(Kernels, PhiBlockAcrossRegimeBorders) {
   }
   for (double a = -6; a <= 6; a += 0.37)
     for (double h = 0; h <= 5; h += 0.29) pts.push_back({a, h});
+  // Small spectral radii r = |a| + h from 1 down to 1e-15, where the series length changes:
+  // regression for a term count that ignored the N part (|q_n| <= n r^(n-1)), found on the
+  // perturbed shear [1 1; 1e-11 1] (error 4e-13 in q).
+  for (int k = 0; k <= 60; ++k) {
+    const double r = std::pow(10.0, -k / 4.0);
+    for (double frac : {0.0, 1e-6, 0.3, 0.5, 0.9, 1.0}) {
+      pts.push_back({r * (1 - frac), r * frac});
+      pts.push_back({-r * (1 - frac), r * frac});
+    }
+  }
   double worstP = 0, worstQ = 0;
   for (auto [a, h] : pts)
     for (int sign : {1, -1}) {

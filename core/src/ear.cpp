@@ -36,6 +36,8 @@ constexpr double kPi = 3.14159265358979323846;
 // Relative eigenvalue spread below which the 3D logarithm uses the series about the mean
 // eigenvalue (where splitting off an eigenvector would be ill-conditioned).
 constexpr double kTripleSpread = 0.02;
+// Largest relative spread for which the series form is used on strongly non-normal matrices.
+constexpr double kSeriesSpreadMax = 0.25;
 // Hadamard ratio at or below which L counts as singular (same threshold as Affine::inverse).
 constexpr double kSingularRatio = 1e-14;
 constexpr double kSeriesTiny = 0x1.0p-56;
@@ -357,7 +359,12 @@ struct LogWork<3> {
     }
     log.kase.translation = translationCase<3>(re, im, std::abs(lbar) + spread, E, opt.case_tolerance);
 
-    if (lbar > 0 && spread <= kTripleSpread * lbar) return seriesForm(F, s, P, Q, spread, t, log, sp);
+    // Series form near a triple eigenvalue: always within 2%, and up to 25% when L is far from
+    // normal there (spread below a tenth of |F|_F, Jordan-like), where the eigenvector split
+    // loses about u |F|^2 / spread^2.
+    if (lbar > 0 && (spread <= kTripleSpread * lbar ||
+                     (spread <= kSeriesSpreadMax * lbar && spread * spread <= 0.01 * F.squaredNorm())))
+      return seriesForm(F, s, P, Q, spread, t, log, sp);
 
     // Choose the simple positive eigenvalue mu to split off: the real one of a complex pair,
     // the only positive one, or the most separated of three positive ones.

@@ -52,14 +52,16 @@ struct InverseFactorials {
 };
 const InverseFactorials kInvFact;
 
-// Number of terms K of sum_{n<=K} X^n/(n+1)! for spectral radius r <= 1: the first omitted term
-// is bounded by (K+2) r^(K+1) / (K+2)! (|q_n| <= n r^(n-1)), kept below 2^-56. rmax[K] is the
-// largest r for which K terms suffice.
+// Number of terms K of sum_{n<=K} X^n/(n+1)! for spectral radius r <= 1. The first omitted term,
+// X^{K+1}/(K+2)! = (p 1 + q N)/(K+2)!, has |p| <= r^(K+1) and |q| <= (K+1) r^K: the q bound
+// decides, kept below 2^-56 (relative to p, q ~ 1 and 1/2). rmax[K] is the largest r for which K
+// terms suffice.
 struct SeriesRadii {
   double rmax[21];
   SeriesRadii() {
-    for (int K = 0; K <= 20; ++K)
-      rmax[K] = std::pow(kTiny / (static_cast<double>(K + 2) * kInvFact.v[K + 1]), 1.0 / (K + 1));
+    rmax[0] = 0.0;
+    for (int K = 1; K <= 20; ++K)
+      rmax[K] = std::pow(kTiny / (static_cast<double>(K + 1) * kInvFact.v[K + 1]), 1.0 / K);
   }
 };
 const SeriesRadii kSeriesRadii;
