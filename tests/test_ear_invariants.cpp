@@ -199,3 +199,22 @@ TEST(InvariantsContinuity, AcrossTripleSeriesBorder3D) {
     EXPECT_LE((v - lg.velocity(q)).norm(), 1e-8) << spread;
   }
 }
+
+// Large exponents: a small rotation lies in the series form (triple eigenvalue within 2%); at
+// t = 1e4 its series would need hundreds of terms (it once returned entries of 1e38), so the
+// span squares A^(t/2^k) instead. The error may grow like t times the input's rounding.
+TEST(InvariantsLargeT, SeriesFormUsesSquaring) {
+  const Eigen::Vector3d axis = Eigen::Vector3d(1, 2, 3).normalized();
+  for (double angle : {0.01, 1.0}) {
+    const Affine3 A(Eigen::AngleAxisd(angle, axis).toRotationMatrix(), Eigen::Vector3d(0.1, 0.2, 0.3));
+    const steady::Span3 span(A);
+    for (double t : {1e2, 1e4, -1e4}) {
+      const Affine3 P = span.power(t);
+      const Eigen::Matrix3d R = Eigen::AngleAxisd(angle * t, axis).toRotationMatrix();
+      EXPECT_LE((P.linear() - R).norm(), 1e-16 * std::abs(t) * 64) << angle << " " << t;
+      EXPECT_LE((P.linear().transpose() * P.linear() - Eigen::Matrix3d::Identity()).norm(), 1e-16 * std::abs(t) * 64);
+      // The axis component of the translation advances linearly: (t * d) along the axis.
+      EXPECT_NEAR(axis.dot(P.translation()), t * axis.dot(A.translation()), 1e-15 * std::abs(t) * 64);
+    }
+  }
+}

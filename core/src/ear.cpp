@@ -41,6 +41,9 @@ constexpr double kSeriesSpreadMax = 0.25;
 // Hadamard ratio at or below which L counts as singular (same threshold as Affine::inverse).
 constexpr double kSingularRatio = 1e-14;
 constexpr double kSeriesTiny = 0x1.0p-56;
+// Largest |t| rho (rho: spectral radius bound of the log's nilpotent-like part Z) for which a
+// span in series form sums its series directly (then at most about 30 terms).
+constexpr double kSeriesReach = 4.0;
 // Largest Frobenius condition number of the log's 2D block for which a span evaluates the
 // translation as (e^{tM} - 1) M^-1 u (cheaper; error grows with this condition number).
 #ifndef STEADY_VIA_INVERSE_CONDITION
@@ -482,6 +485,25 @@ struct LogWork<3> {
   }
 };
 
+// A^t in the series form (3D, near a triple eigenvalue): exp(tM) = e^{t ell} exp(tZ) and
+// phi(tM) = sum_n I_n(t ell)/n! (tZ)^n, both summed with Cayley-Hamilton of tZ. Accurate while
+// |t| rho <= kSeriesReach (about 30 terms).
+Affine3 seriesPower(const detail::Spectral<3>& sp, double t) {
+  const double k0 = t * t * t * sp.k0, k1 = t * t * sp.k1, k2 = t * sp.k2;
+  const int n = seriesTerms(std::abs(t) * sp.rho);
+  double inv[65];
+  inv[0] = 1.0;
+  for (int k = 1; k <= n; ++k) inv[k] = inv[k - 1] / k;
+  double ce[3], cg[3], J[65];
+  cayleyHamiltonSeries(k0, k1, k2, n, [&](int k) { return inv[k]; }, ce);
+  detail::phiMoments(t * sp.ell, n, J);
+  cayleyHamiltonSeries(k0, k1, k2, n, [&](int k) { return J[k]; }, cg);
+  const double g = std::exp(t * sp.ell);
+  const Eigen::Matrix3d Lt = g * (ce[0] * Eigen::Matrix3d::Identity() + (ce[1] * t) * sp.Z + (ce[2] * t * t) * sp.Z2);
+  const Eigen::Vector3d tt = t * (cg[0] * sp.u + (cg[1] * t) * sp.Zu + (cg[2] * t * t) * sp.Z2u);
+  return Affine3(Lt, tt);
+}
+
 [[noreturn]] void raise(const Failure& f) {
   throw Error(f.code, f.message);
 }
@@ -553,20 +575,15 @@ Affine<D> Span<D>::power(double t) const {
   const detail::Spectral<D>& sp = spec_;
   if constexpr (D == 3) {
     if (sp.series) {
-      // exp(t M) = e^{t ell} exp(tZ), phi(tM) = sum_n I_n(t ell)/n! (tZ)^n.
-      const double k0 = t * t * t * sp.k0, k1 = t * t * sp.k1, k2 = t * sp.k2;
-      const int n = seriesTerms(std::abs(t) * sp.rho);
-      double inv[65];
-      inv[0] = 1.0;
-      for (int k = 1; k <= n; ++k) inv[k] = inv[k - 1] / k;
-      double ce[3], cg[3], J[65];
-      cayleyHamiltonSeries(k0, k1, k2, n, [&](int k) { return inv[k]; }, ce);
-      detail::phiMoments(t * sp.ell, n, J);
-      cayleyHamiltonSeries(k0, k1, k2, n, [&](int k) { return J[k]; }, cg);
-      const double g = std::exp(t * sp.ell);
-      const Linear Lt = g * (ce[0] * Linear::Identity() + (ce[1] * t) * sp.Z + (ce[2] * t * t) * sp.Z2);
-      const Vec tt = t * (cg[0] * sp.u + (cg[1] * t) * sp.Zu + (cg[2] * t * t) * sp.Z2u);
-      return Affine<D>(Lt, tt);
+      // The series in tZ is summed while |t| rho <= kSeriesReach; beyond, A^t is the 2^k-th
+      // power of A^(t/2^k) (k squarings, each adding about one rounding error).
+      if (std::abs(t) * sp.rho > kSeriesReach) {
+        const int k = static_cast<int>(std::ceil(std::log2(std::abs(t) * sp.rho / kSeriesReach)));
+        Affine<D> B = seriesPower(sp, std::ldexp(t, -k));
+        for (int i = 0; i < k; ++i) B = B * B;
+        return B;
+      }
+      return seriesPower(sp, t);
     }
   }
   // Split form: exp(tM) = e^{t lam} P + e^{t m} (C Pi + t S N), C, S at t^2 eta, written as
