@@ -187,7 +187,9 @@ class Span {
   /// The SAM span from pose `B` (t = 0) to pose `C` (t = 1). Throws like sam().
   static Span between(const Affine<D>& B, const Affine<D>& C, const EarOptions& options = {});
 
-  /// `A^t`, for any real t.
+  /// `A^t`, for any real t. The error grows at most linearly with |t| (the input's own rounding
+  /// is amplified by t); for spans near a triple eigenvalue and |t| large, `A^(t/2^k)` is
+  /// squared k times. Entries overflow to infinity when A^t exceeds double range.
   Affine<D> power(double t) const;
   /// The pose at time t: `A^t B` (B is the identity for a span built from A alone).
   Affine<D> pose(double t) const { return power(t) * start_; }
