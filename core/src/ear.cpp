@@ -51,6 +51,14 @@ constexpr double kSeriesReach = 4.0;
 #endif
 constexpr double kViaInverseCondition = STEADY_VIA_INVERSE_CONDITION;
 
+// Whether the log block X = alpha 1 + N (N^2 = eta 1, |N|_F^2 = nfrob2) has a Frobenius condition
+// number below kViaInverseCondition: then phi(X)^-1 = X (e^X - 1)^-1 and (e^{tX} - 1) X^-1 can be
+// used directly.
+bool wellConditionedBlock(double alpha, double eta, double nfrob2) {
+  const double det = alpha * alpha - eta;
+  return 2.0 * alpha * alpha + nfrob2 < kViaInverseCondition * std::abs(det) && std::abs(det) > 1e-280;
+}
+
 struct Failure {
   ErrorCode code = ErrorCode::InvalidArgument;
   std::string message;
@@ -109,9 +117,7 @@ struct Block2Log {
   /// c1 1 + s1 X_N with det(L2 - 1) = detE; otherwise the inverse of phiBlock's phi(X).
   BlockCoefficients phiInverseOfLog() const {
     const double eta_ = eta();
-    const double detX = alpha * alpha - eta_;
-    const double nfrob2 = beta * beta * N.squaredNorm();
-    if (2.0 * alpha * alpha + nfrob2 < kViaInverseCondition * std::abs(detX) && std::abs(detE) > 1e-280)
+    if (wellConditionedBlock(alpha, eta_, beta * beta * N.squaredNorm()) && std::abs(detE) > 1e-280)
       return {(alpha * r1 - s1 * eta_) / detE, (r1 - alpha * s1) / detE};
     const BlockCoefficients pq = detail::phiBlock(alpha, eta_, r1, s1, detE);
     const double den = pq.p * pq.p - pq.q * pq.q * eta_;
@@ -290,8 +296,8 @@ void fillSplit(detail::Spectral<D>& sp, double lam, double alpha, double eta, do
   sp.N = Nt;
   sp.Pu = P * u;
   const typename Affine<D>::Vector Piu = Pi * u, Nu = Nt * u;
-  const double det = alpha * alpha - eta;  // det of the block
-  if (2.0 * alpha * alpha + nfrob2 < kViaInverseCondition * std::abs(det) && std::abs(det) > 1e-280) {
+  if (wellConditionedBlock(alpha, eta, nfrob2)) {
+    const double det = alpha * alpha - eta;  // det of the block
     sp.via_inverse = true;
     sp.Piu = (alpha * Piu - Nu) / det;
     sp.Nu = (alpha * Nu - eta * Piu) / det;
