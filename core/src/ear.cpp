@@ -276,9 +276,9 @@ Eigen::Vector3d orthogonalTo(const Eigen::Vector3d& n) {
 }
 
 // Fills the split form of a span from the parts of the log: M = lam P + alpha Pi + Nt, with
-// Nt^2 = eta Pi. When M's 2D block is well conditioned (Frobenius condition number <= 16) the
-// span stores w = (block of M)^-1 u and evaluates the block translation as (e^{tM} - 1) w,
-// which needs no phi at evaluation time.
+// Nt^2 = eta Pi. When M's 2D block is well conditioned (wellConditionedBlock) the span stores
+// w = (block of M)^-1 u and evaluates the block translation as (e^{tM} - 1) w, which needs no
+// phi at evaluation time.
 template <int D>
 void fillSplit(detail::Spectral<D>& sp, double lam, double alpha, double eta, double nfrob2,
                const typename Affine<D>::Linear& P, const typename Affine<D>::Linear& Pi,
@@ -290,7 +290,6 @@ void fillSplit(detail::Spectral<D>& sp, double lam, double alpha, double eta, do
   sp.eta = eta;
   sp.omega = std::sqrt(std::abs(eta));
   sp.inv_omega = sp.omega > 0 ? 1.0 / sp.omega : 0.0;  // used only where |t omega| >= 1e-3
-  sp.P = P;
   sp.Pi = Pi;
   sp.N = Nt;
   sp.Pu = P * u;

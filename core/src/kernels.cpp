@@ -35,8 +35,6 @@ double phi(double x) {
   return std::expm1(x) / x;
 }
 
-BlockExp blockExp(double a, double eta) { return {a, eta, std::expm1(a), coshSinhc(eta)}; }
-
 namespace {
 
 // 1/(n+1)! for n = 0..21.
@@ -128,8 +126,9 @@ BlockCoefficients phiBlock(double a, double eta, double c1, double s1, double de
 }
 
 BlockCoefficients phiBlock(double a, double eta) {
-  const BlockExp e = blockExp(a, eta);
-  return phiBlock(a, eta, e.c1(), e.s1(), std::nan(""));
+  const double em = std::expm1(a);
+  const CoshSinhc cs = coshSinhc(eta);
+  return phiBlock(a, eta, em * cs.c + cs.cm1, (1.0 + em) * cs.s, std::nan(""));
 }
 
 CubicRoots depressedCubic(double P, double Q) {

@@ -35,16 +35,6 @@ struct BlockCoefficients {
 };
 BlockCoefficients phiBlock(double a, double eta, double c1, double s1, double detEm1);
 
-/// The exponential of a block a 1 + N (N^2 = eta 1): e^a (C 1 + S N), kept as expm1(a) and
-/// C, S, C - 1 at eta, so that callers can form e^a C - 1 = em C + (C - 1) without cancellation.
-struct BlockExp {
-  double a, eta, em;
-  CoshSinhc cs;
-  double c1() const { return em * cs.c + cs.cm1; }  ///< e^a C - 1
-  double s1() const { return (1.0 + em) * cs.s; }   ///< e^a S
-};
-BlockExp blockExp(double a, double eta);
-
 /// phiBlock for a block given by (a, eta) alone (computes its exponential first).
 BlockCoefficients phiBlock(double a, double eta);
 

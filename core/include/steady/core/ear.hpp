@@ -105,8 +105,8 @@ using AffineLog3 = AffineLog<3>;
 namespace detail {
 /// Precomputed spectral form of a homogeneous log; the data behind Span (see ear.cpp).
 /// Split form: `M = lam P + m Pi + N`, with `P + Pi = 1`, `P Pi = 0`, `N = Pi N Pi`,
-/// `N^2 = eta Pi` (in 2D, `P = 0`); `Piu`, `Nu` hold `Pi u`, `N u`, or, when `via_inverse`,
-/// `Pi w`, `N w` with `w` the block's inverse applied to `u`. Series form (3D, near a triple
+/// `N^2 = eta Pi` (in 2D, `P = 0`); only `Pi`, `N` and `Pu` = `P u` are stored. `Piu`, `Nu` hold
+/// `Pi u`, `N u`, or, when `via_inverse`, `Pi w`, `N w` with `w` the block's inverse applied to `u`. Series form (3D, near a triple
 /// eigenvalue): `M = ell 1 + Z` with `Z^3 = k2 Z^2 + k1 Z + k0 1`.
 template <int D>
 struct Spectral {
@@ -114,7 +114,7 @@ struct Spectral {
   using Vector = typename Affine<D>::Vector;
   bool series = false, via_inverse = false;
   double lam = 0, inv_lam = 0, m = 0, eta = 0, omega = 0, inv_omega = 0;
-  Linear P = Linear::Zero(), Pi = Linear::Identity(), N = Linear::Zero();
+  Linear Pi = Linear::Identity(), N = Linear::Zero();
   Vector Pu = Vector::Zero(), Piu = Vector::Zero(), Nu = Vector::Zero();
   double ell = 0, k0 = 0, k1 = 0, k2 = 0, rho = 0;
   Linear Z = Linear::Zero(), Z2 = Linear::Zero();
