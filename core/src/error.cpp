@@ -10,6 +10,8 @@ const char* to_string(ErrorCode code) noexcept {
     case ErrorCode::NoRealLog: return "no-real-log";
     case ErrorCode::DegenerateInput: return "degenerate-input";
     case ErrorCode::InvalidArgument: return "invalid-argument";
+    case ErrorCode::InvalidFile: return "invalid-file";
+    case ErrorCode::Io: return "io";
   }
   return "unknown";
 }

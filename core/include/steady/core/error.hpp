@@ -16,6 +16,8 @@ enum class ErrorCode {
   NoRealLog,           ///< det L > 0 but no real logarithm exists: there is no SAM (Culver)
   DegenerateInput,     ///< points or vectors that do not determine the requested object
   InvalidArgument,     ///< an argument outside its documented range
+  InvalidFile,         ///< a file's content is malformed (the message gives its path inside the file)
+  Io,                  ///< a file could not be read or written (the message names it and why)
 };
 
 /// Short stable name of a code ("no-real-log", ...), usable in JSON and logs.
