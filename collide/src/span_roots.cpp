@@ -1,0 +1,228 @@
+// Contact functions along a SAM span (point/plane, edge/edge) and their derivative bounds, fed to
+// the guaranteed isolation of isolate.hpp. See span_roots.hpp for the bounds and the rounding
+// policy.
+#include <steady/collide/span_roots.hpp>
+
+#include "isolate.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace steady {
+
+namespace {
+
+constexpr int kCacheSteps = 128;  // cached powers at s = k / 128
+constexpr double kUlp = 0x1.0p-52;
+
+using detail::Bounds;
+using detail::kBoundSlack;
+using detail::phi1;
+using detail::phi2;
+
+void checkRange(double s0, double s1, const char* what) {
+  if (!std::isfinite(s0) || !std::isfinite(s1))
+    throw Error(ErrorCode::NonFinite, std::string(what) + ": the time range is not finite");
+  if (!(s1 >= s0)) throw Error(ErrorCode::InvalidArgument, std::string(what) + ": the time range is reversed (s1 < s0)");
+}
+
+// g(s) = m . x(s) - h for x(s) = A^s x0.
+struct PointPlaneFn {
+  using Vector = Eigen::Vector3d;
+  struct Sample {
+    double g, gp, eps, epsd;
+    double vn;  // |v(x(s))|
+  };
+  const SpanRoots& sr;
+  const Eigen::Matrix3d& M;
+  const Vector& u;
+  Vector x0, m;
+  double h, mn, wm, x0n, ulps, mu, un;
+
+  Sample sample(double s) const {
+    Affine3 P;
+    double ln, tn;
+    sr.power(s, P, ln, tn);
+    const Vector x = P.applyPoint(x0);
+    const Vector v = M * x + u;
+    const double xs = x.norm() + x0n * ln + tn;
+    return {m.dot(x) - h, m.dot(v), ulps * (mn * xs + std::abs(h)), ulps * mn * (mu * xs + un), v.norm()};
+  }
+  // g'(s) - g'(c) = m^T M (L^(s-c) - 1) v_c / ... bounded by |M^T m| |v_c| r phi1(r mu); the
+  // path length |x(s) - x(c)| <= |v_c| r phi1(r mu) bounds |g(s) - g(c)| directly too.
+  Bounds bounds(const Sample& c, double r) const {
+    const double z = r * mu, w = wm * c.vn;
+    Bounds b;
+    b.D = kBoundSlack * w * r * phi1(z);
+    b.reach = std::min(std::abs(c.gp) * r + kBoundSlack * w * r * r * phi2(z),
+                       kBoundSlack * mn * c.vn * r * phi1(z));
+    return b;
+  }
+};
+
+// g(s) = ((L^s e0) x d) . (q0 - A^s p0).
+struct EdgeEdgeFn {
+  using Vector = Eigen::Vector3d;
+  struct Sample {
+    double g, gp, eps, epsd;
+    double en, men, mmen, vn, mvn, wn;  // |e|, |M e|, |M^2 e|, |v|, |M v|, |q0 - x|
+  };
+  const SpanRoots& sr;
+  const Eigen::Matrix3d& M;
+  const Vector& u;
+  Vector p0, e0, q0, d;
+  double dn, p0n, e0n, ulps, mu, un;
+
+  Sample sample(double s) const {
+    Affine3 P;
+    double ln, tn;
+    sr.power(s, P, ln, tn);
+    const Vector x = P.applyPoint(p0);
+    const Vector e = P.linear() * e0;
+    const Vector me = M * e, mme = M * me;
+    const Vector v = M * x + u, mv = M * v;
+    const Vector w = q0 - x;
+    const Vector n = e.cross(d);
+    Sample r;
+    r.g = n.dot(w);
+    r.gp = me.cross(d).dot(w) - n.dot(v);
+    r.en = e.norm();
+    r.men = me.norm();
+    r.mmen = mme.norm();
+    r.vn = v.norm();
+    r.mvn = mv.norm();
+    r.wn = w.norm();
+    const double xs = x.norm() + p0n * ln + tn;  // magnitude behind the rounding of x
+    const double es = r.en + ln * e0n;            // and of e
+    r.eps = ulps * dn * es * (r.wn + xs + q0.norm());
+    r.epsd = ulps * dn * ((r.men + mu * es) * (r.wn + xs + q0.norm()) + es * (r.vn + mu * xs + un));
+    return r;
+  }
+  // g'' = (M^2 e x d).w - 2 (M e x d).v - (e x d).(M v), every factor moving by at most
+  // e^(|s-c| mu) from its value at c (M commutes with L^s), and |w(s)| <= |w_c| + path length.
+  Bounds bounds(const Sample& c, double r) const {
+    const double z = r * mu, grow = std::exp(z);
+    const double W = c.wn + c.vn * r * phi1(z);
+    const double K = kBoundSlack * dn * (grow * c.mmen * W + grow * grow * (2 * c.men * c.vn + c.en * c.mvn));
+    Bounds b;
+    b.D = K * r;
+    b.reach = std::abs(c.gp) * r + 0.5 * K * r * r;
+    return b;
+  }
+};
+
+}  // namespace
+
+SpanRoots::SpanRoots(const Span3& span, const RootOptions& options) : span_(span), options_(options) {
+  if (!(options_.time_tolerance > 0) || !(options_.value_ulps >= 1) || options_.max_intervals < 1)
+    throw Error(ErrorCode::InvalidArgument,
+                "RootOptions: time_tolerance must be > 0, value_ulps >= 1, max_intervals >= 1");
+  M_ = span_.log().M;
+  u_ = span_.log().u;
+  // Spectral norm of M (the largest singular value), slightly inflated so that rounding of the
+  // eigen-solve cannot make it an underestimate; capped by the Frobenius norm.
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(M_.transpose() * M_, Eigen::EigenvaluesOnly);
+  mu_ = std::min(M_.norm(), std::sqrt(std::max(0.0, es.eigenvalues().maxCoeff())) * (1 + 1e-12) + 1e-300);
+  cache_.reserve(kCacheSteps + 1);
+  for (int k = 0; k <= kCacheSteps; ++k) {
+    const Affine3 P = span_.power(static_cast<double>(k) / kCacheSteps);
+    cache_.push_back({P, P.linear().norm(), P.translation().norm()});
+  }
+}
+
+void SpanRoots::power(double s, Affine3& P, double& lnorm, double& tnorm) const {
+  const double k = s * kCacheSteps;
+  // A cache hit holds exactly what span_.power(s) computes: a lookup, not a case.
+  if (k >= 0 && k <= kCacheSteps && k == std::floor(k)) {
+    const Cached& c = cache_[static_cast<std::size_t>(k)];
+    P = c.P;
+    lnorm = c.lnorm;
+    tnorm = c.tnorm;
+    return;
+  }
+  P = span_.power(s);
+  lnorm = P.linear().norm();
+  tnorm = P.translation().norm();
+}
+
+Affine3 SpanRoots::power(double s) const {
+  Affine3 P;
+  double ln, tn;
+  power(s, P, ln, tn);
+  return P;
+}
+
+namespace {
+
+PointPlaneFn pointPlaneFn(const SpanRoots& sr, const Eigen::Matrix3d& M, const Eigen::Vector3d& u,
+                          const Eigen::Vector3d& x0, const Eigen::Vector3d& m, double h) {
+  if (!x0.allFinite() || !m.allFinite() || !std::isfinite(h))
+    throw Error(ErrorCode::NonFinite, "point/plane solve: the point or the plane is not finite");
+  const double mn = m.norm();
+  if (!(mn > 0)) throw Error(ErrorCode::DegenerateInput, "point/plane solve: the plane normal m is zero");
+  return {sr, M, u, x0, m, h, mn, (M.transpose() * m).norm(), x0.norm(),
+          sr.options().value_ulps * kUlp, sr.logNorm(), u.norm()};
+}
+
+EdgeEdgeFn edgeEdgeFn(const SpanRoots& sr, const Eigen::Matrix3d& M, const Eigen::Vector3d& u,
+                      const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& q0,
+                      const Eigen::Vector3d& q1) {
+  if (!p0.allFinite() || !p1.allFinite() || !q0.allFinite() || !q1.allFinite())
+    throw Error(ErrorCode::NonFinite, "edge/edge solve: an edge end is not finite");
+  const Eigen::Vector3d e0 = p1 - p0, d = q1 - q0;
+  if (!(e0.norm() > 0) || !(d.norm() > 0))
+    throw Error(ErrorCode::DegenerateInput, "edge/edge solve: an edge has zero length");
+  return {sr, M, u, p0, e0, q0, d, d.norm(), p0.norm(), e0.norm(),
+          sr.options().value_ulps * kUlp, sr.logNorm(), u.norm()};
+}
+
+template <class F>
+std::size_t collect(const F& f, double s0, double s1, const RootOptions& o, std::vector<ContactRoot>& out) {
+  const std::size_t before = out.size();
+  detail::isolateRoots(f, s0, s1, o, [&](const ContactRoot& p) {
+    return detail::appendMerged(out, before, p, o.time_tolerance);
+  });
+  return out.size() - before;
+}
+
+template <class F>
+std::optional<ContactRoot> earliest(const F& f, double s0, double s1, const RootOptions& o) {
+  std::optional<ContactRoot> found;
+  detail::isolateRoots(f, s0, s1, o, [&](const ContactRoot& p) {
+    found = p;
+    return true;
+  });
+  return found;
+}
+
+}  // namespace
+
+std::size_t SpanRoots::pointPlane(const Vector& x0, const Vector& m, double h, double s0, double s1,
+                                  std::vector<ContactRoot>& out) const {
+  checkRange(s0, s1, "point/plane solve");
+  return collect(pointPlaneFn(*this, M_, u_, x0, m, h), s0, s1, options_, out);
+}
+
+std::optional<ContactRoot> SpanRoots::firstPointPlane(const Vector& x0, const Vector& m, double h, double s0,
+                                                      double s1) const {
+  checkRange(s0, s1, "point/plane solve");
+  return earliest(pointPlaneFn(*this, M_, u_, x0, m, h), s0, s1, options_);
+}
+
+std::size_t SpanRoots::edgeEdge(const Vector& p0, const Vector& p1, const Vector& q0, const Vector& q1, double s0,
+                                double s1, std::vector<ContactRoot>& out) const {
+  checkRange(s0, s1, "edge/edge solve");
+  return collect(edgeEdgeFn(*this, M_, u_, p0, p1, q0, q1), s0, s1, options_, out);
+}
+
+std::optional<ContactRoot> SpanRoots::firstEdgeEdge(const Vector& p0, const Vector& p1, const Vector& q0,
+                                                    const Vector& q1, double s0, double s1) const {
+  checkRange(s0, s1, "edge/edge solve");
+  return earliest(edgeEdgeFn(*this, M_, u_, p0, p1, q0, q1), s0, s1, options_);
+}
+
+}  // namespace steady
