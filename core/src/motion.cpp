@@ -154,8 +154,8 @@ Motion<D> Motion<D>::polySam(const std::vector<Keyframe<D>>& keys, const MotionO
       if (e.code() != ErrorCode::NoRealLog || options.no_sam != NoSamPolicy::Split) {
         std::string hint;
         if (e.code() == ErrorCode::NoRealLog)
-          hint = "; insert a key pose between them, or set MotionOptions::no_sam = Split "
-                 "(\"no_sam\": \"split\" in a motion file) to insert unsteady midpoints";
+          hint = "; or set MotionOptions::no_sam = Split (\"no_sam\": \"split\" in a motion file) to "
+                 "insert unsteady midpoints automatically";
         throw Error(e.code(), name + " has no SAM: " + e.what() + hint);
       }
       const std::size_t before = m.spans_.size();

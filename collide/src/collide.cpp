@@ -1,0 +1,486 @@
+// Mesh contact queries: Embree broad phase over swept slice boxes, exact feature solves on the
+// candidate pairs (see collide.hpp).
+#include <steady/collide/collide.hpp>
+
+#include "isolate.hpp"
+
+#include <embree3/rtcore.h>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <string>
+#include <utility>
+
+namespace steady {
+
+const char* to_string(ContactType type) noexcept {
+  switch (type) {
+    case ContactType::VertexFace: return "vertex-face";
+    case ContactType::FaceVertex: return "face-vertex";
+    case ContactType::EdgeEdge: return "edge-edge";
+  }
+  return "unknown";
+}
+
+namespace {
+
+using Vec = Eigen::Vector3d;
+using Faces = std::vector<std::array<int, 3>>;
+using Clock = std::chrono::steady_clock;
+
+double seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
+
+void checkMesh(const std::vector<Vec>& V, const Faces& F, const char* which) {
+  const std::string w(which);
+  if (V.empty() || F.empty())
+    throw Error(ErrorCode::DegenerateInput, w + " mesh is empty (" + std::to_string(V.size()) + " vertices, " +
+                                                std::to_string(F.size()) + " faces)");
+  for (std::size_t i = 0; i < V.size(); ++i)
+    if (!V[i].allFinite())
+      throw Error(ErrorCode::NonFinite, w + " mesh: vertex " + std::to_string(i) + " is not finite");
+  for (std::size_t f = 0; f < F.size(); ++f) {
+    for (int k = 0; k < 3; ++k)
+      if (F[f][k] < 0 || static_cast<std::size_t>(F[f][k]) >= V.size())
+        throw Error(ErrorCode::InvalidArgument, w + " mesh: face " + std::to_string(f) + " refers to vertex " +
+                                                    std::to_string(F[f][k]) + ", but there are " +
+                                                    std::to_string(V.size()) + " vertices");
+    const Vec n = (V[F[f][1]] - V[F[f][0]]).cross(V[F[f][2]] - V[F[f][0]]);
+    const double scale = (V[F[f][1]] - V[F[f][0]]).squaredNorm() + (V[F[f][2]] - V[F[f][0]]).squaredNorm();
+    if (!(n.norm() > 1e-14 * scale))
+      throw Error(ErrorCode::DegenerateInput, w + " mesh: face " + std::to_string(f) +
+                                                  " has zero area (collinear or repeated vertices); "
+                                                  "remove it or repair the mesh");
+  }
+}
+
+double boxDiagonal(const std::vector<Vec>& V) {
+  Vec lo = V.front(), hi = V.front();
+  for (const Vec& p : V) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  return (hi - lo).norm();
+}
+
+// Outward rounding of a double box to float.
+void storeBounds(RTCBounds* b, const Vec& lo, const Vec& hi) {
+  const float inf = std::numeric_limits<float>::infinity();
+  b->lower_x = std::nextafter(static_cast<float>(lo.x()), -inf);
+  b->lower_y = std::nextafter(static_cast<float>(lo.y()), -inf);
+  b->lower_z = std::nextafter(static_cast<float>(lo.z()), -inf);
+  b->upper_x = std::nextafter(static_cast<float>(hi.x()), inf);
+  b->upper_y = std::nextafter(static_cast<float>(hi.y()), inf);
+  b->upper_z = std::nextafter(static_cast<float>(hi.z()), inf);
+}
+
+// Closest point of triangle (a, b, c) to p (regions of the triangle's Voronoi diagram).
+Vec closestOnTriangle(const Vec& p, const Vec& a, const Vec& b, const Vec& c) {
+  const Vec ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Vec bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
+  const Vec cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+  const double denom = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+// Closest points of segments [p0, p1] and [q0, q1]; returns the distance.
+double segmentDistance(const Vec& p0, const Vec& p1, const Vec& q0, const Vec& q1, Vec& cp, Vec& cq) {
+  const Vec d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  const double c = d1.dot(r), b = d1.dot(d2), denom = a * e - b * b;
+  double s = denom > 1e-300 * a * e ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+  double t = (b * s + f) / e;
+  if (t < 0) {
+    t = 0;
+    s = std::clamp(-c / a, 0.0, 1.0);
+  } else if (t > 1) {
+    t = 1;
+    s = std::clamp((b - c) / a, 0.0, 1.0);
+  }
+  cp = p0 + s * d1;
+  cq = q0 + t * d2;
+  return (cp - cq).norm();
+}
+
+struct PairHit {
+  unsigned moving, fixed;  // moving primitive (slice-major), static face
+};
+
+struct PairSink {
+  std::mutex mutex;
+  std::vector<PairHit> pairs;
+};
+
+void collectPairs(void* user, RTCCollision* collisions, unsigned n) {
+  auto* sink = static_cast<PairSink*>(user);
+  std::lock_guard<std::mutex> lock(sink->mutex);
+  for (unsigned i = 0; i < n; ++i) sink->pairs.push_back({collisions[i].primID0, collisions[i].primID1});
+}
+
+}  // namespace
+
+// ---- the static scene ---------------------------------------------------------------------------
+
+namespace {
+
+// The static scene's data (StaticScene::Impl adds nothing: it only names it for the header).
+struct SceneData {
+  std::vector<Vec> V;
+  Faces F;
+  std::vector<Vec> normal;  // unit face normals
+  std::vector<double> offset;  // normal . x = offset on the face's plane
+  double diag = 0;
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+
+  SceneData() = default;
+  SceneData(const SceneData&) = delete;
+  SceneData& operator=(const SceneData&) = delete;
+  ~SceneData() {
+    if (scene) rtcReleaseScene(scene);
+    if (device) rtcReleaseDevice(device);
+  }
+
+  static void bounds(const RTCBoundsFunctionArguments* args) {
+    const auto* self = static_cast<const SceneData*>(args->geometryUserPtr);
+    const auto& f = self->F[args->primID];
+    const Vec lo = self->V[f[0]].cwiseMin(self->V[f[1]]).cwiseMin(self->V[f[2]]);
+    const Vec hi = self->V[f[0]].cwiseMax(self->V[f[1]]).cwiseMax(self->V[f[2]]);
+    storeBounds(args->bounds_o, lo, hi);
+  }
+};
+
+}  // namespace
+
+struct StaticScene::Impl : SceneData {};
+
+namespace {
+
+RTCDevice newDevice() {
+  RTCDevice d = rtcNewDevice(nullptr);
+  if (!d) throw Error(ErrorCode::InvalidArgument, "Embree could not create a device (rtcNewDevice failed)");
+  return d;
+}
+
+// A user geometry of `count` primitives with the given bounds callback, committed into `scene`.
+void addUserGeometry(RTCDevice device, RTCScene scene, unsigned count, RTCBoundsFunction fn, void* user) {
+  RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+  rtcSetGeometryUserPrimitiveCount(g, count);
+  rtcSetGeometryUserData(g, user);
+  rtcSetGeometryBoundsFunction(g, fn, user);
+  rtcCommitGeometry(g);
+  rtcAttachGeometry(scene, g);
+  rtcReleaseGeometry(g);
+  rtcCommitScene(scene);
+}
+
+}  // namespace
+
+StaticScene::StaticScene(std::vector<Vec> vertices, Faces faces) : impl_(std::make_unique<Impl>()) {
+  checkMesh(vertices, faces, "the static");
+  Impl& s = *impl_;
+  s.V = std::move(vertices);
+  s.F = std::move(faces);
+  s.normal.resize(s.F.size());
+  s.offset.resize(s.F.size());
+  for (std::size_t f = 0; f < s.F.size(); ++f) {
+    const Vec& a = s.V[s.F[f][0]];
+    s.normal[f] = (s.V[s.F[f][1]] - a).cross(s.V[s.F[f][2]] - a).normalized();
+    s.offset[f] = s.normal[f].dot(a);
+  }
+  s.diag = boxDiagonal(s.V);
+  s.device = newDevice();
+  s.scene = rtcNewScene(s.device);
+  rtcSetSceneBuildQuality(s.scene, RTC_BUILD_QUALITY_HIGH);
+  addUserGeometry(s.device, s.scene, static_cast<unsigned>(s.F.size()), &SceneData::bounds, static_cast<SceneData*>(&s));
+}
+
+StaticScene::~StaticScene() = default;
+StaticScene::StaticScene(StaticScene&&) noexcept = default;
+StaticScene& StaticScene::operator=(StaticScene&&) noexcept = default;
+
+std::size_t StaticScene::faceCount() const { return impl_->F.size(); }
+
+// ---- one query ------------------------------------------------------------------------------------
+
+namespace {
+
+// Per-span data of the moving mesh.
+struct SpanData {
+  const Span3* span;
+  double t0, t1;        // key times of the span
+  SpanRoots fwd;        // the span, for moving vertices and edges
+  SpanRoots inv;        // its inverse, for static vertices against moving faces
+  std::vector<Vec> W0;  // moving vertices at span time 0 (world)
+  // Per slice k and vertex: position at the slice middle and path-length radius.
+  std::vector<Vec> mid;
+  std::vector<double> rad;
+};
+
+struct Query {
+  const SceneData& st;
+  const std::vector<Vec>& V;
+  const Faces& F;
+  const Motion3& motion;
+  const CollideOptions& o;
+  std::vector<SpanData> spans;
+  int K;
+  double tol;  // contact distance
+  CollideStats stats;
+
+  Query(const SceneData& s, const std::vector<Vec>& verts, const Faces& faces, const Motion3& m,
+        const CollideOptions& opt)
+      : st(s), V(verts), F(faces), motion(m), o(opt), K(opt.slices) {
+    if (o.slices < 1 || o.slices > 128)
+      throw Error(ErrorCode::InvalidArgument, "CollideOptions::slices must be in 1..128, got " + std::to_string(o.slices));
+    if (!(o.contact_tolerance >= 0) || !std::isfinite(o.contact_tolerance))
+      throw Error(ErrorCode::InvalidArgument, "CollideOptions::contact_tolerance must be finite and >= 0");
+    checkMesh(V, F, "the moving");
+    tol = o.contact_tolerance * std::max(st.diag, boxDiagonal(V));
+    const std::size_t nv = V.size();
+    spans.reserve(motion.spanCount());
+    for (std::size_t i = 0; i < motion.spanCount(); ++i) {
+      const Span3& sp = motion.span(i);
+      SpanData d{&sp, motion.spanBegin(i), motion.spanEnd(i), SpanRoots(sp, o.roots),
+                 SpanRoots(Span3(sp.relative().inverse()), o.roots), {}, {}, {}};
+      d.W0.resize(nv);
+      for (std::size_t v = 0; v < nv; ++v) d.W0[v] = sp.start().applyPoint(V[v]);
+      d.mid.resize(nv * static_cast<std::size_t>(K));
+      d.rad.resize(nv * static_cast<std::size_t>(K));
+      const double r = 0.5 / K, grow = r * detail::phi1(r * d.fwd.logNorm()) * detail::kBoundSlack;
+      for (int k = 0; k < K; ++k) {
+        const Affine3 P = d.fwd.power((k + 0.5) / K);
+        for (std::size_t v = 0; v < nv; ++v) {
+          const Vec x = P.applyPoint(d.W0[v]);
+          const std::size_t idx = static_cast<std::size_t>(k) * nv + v;
+          d.mid[idx] = x;
+          // Path-length bound plus a rounding margin for x itself.
+          d.rad[idx] = sp.velocity(x).norm() * grow + 1e-14 * (x.norm() + d.W0[v].norm());
+        }
+      }
+      spans.push_back(std::move(d));
+    }
+  }
+
+  std::size_t sliceCount() const { return spans.size() * static_cast<std::size_t>(K); }
+  // Moving primitive id = slice * faces + face, slice = span * K + k.
+  static void movingBounds(const RTCBoundsFunctionArguments* args) {
+    const auto* q = static_cast<const Query*>(args->geometryUserPtr);
+    const std::size_t nf = q->F.size(), nv = q->V.size();
+    const std::size_t slice = args->primID / nf, f = args->primID % nf;
+    const SpanData& d = q->spans[slice / static_cast<std::size_t>(q->K)];
+    const std::size_t k = slice % static_cast<std::size_t>(q->K);
+    Vec lo = Vec::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (int c = 0; c < 3; ++c) {
+      const std::size_t idx = k * nv + static_cast<std::size_t>(q->F[f][c]);
+      lo = lo.cwiseMin(d.mid[idx] - Vec::Constant(d.rad[idx]));
+      hi = hi.cwiseMax(d.mid[idx] + Vec::Constant(d.rad[idx]));
+    }
+    storeBounds(args->bounds_o, lo, hi);
+  }
+
+  std::vector<PairHit> broadPhase() {
+    const auto start = Clock::now();
+    const std::size_t total = sliceCount() * F.size();
+    if (total > std::numeric_limits<unsigned>::max())
+      throw Error(ErrorCode::InvalidArgument, "too many moving primitives for one query (faces x spans x slices > 2^32); "
+                                              "lower CollideOptions::slices or split the motion");
+    RTCScene scene = rtcNewScene(st.device);
+    PairSink sink;
+    try {
+      addUserGeometry(st.device, scene, static_cast<unsigned>(total), &Query::movingBounds, this);
+      rtcCollide(scene, st.scene, &collectPairs, &sink);
+    } catch (...) {
+      rtcReleaseScene(scene);
+      throw;
+    }
+    rtcReleaseScene(scene);
+    stats.candidate_pairs = sink.pairs.size();
+    // Time order of slices; within a slice any order.
+    std::sort(sink.pairs.begin(), sink.pairs.end(), [&](const PairHit& a, const PairHit& b) {
+      return a.moving / F.size() < b.moving / F.size();
+    });
+    stats.broad_seconds += seconds(start, Clock::now());
+    return std::move(sink.pairs);
+  }
+
+  double globalTime(const SpanData& d, double s) const { return d.t0 + s * (d.t1 - d.t0); }
+
+  // Solves one candidate pair on slice [a, b] of span d; calls emit(contact) for every feature
+  // contact found with span time <= limit.
+  template <class Emit>
+  void solvePair(std::size_t span_index, const SpanData& d, double a, double b, std::size_t f, std::size_t g,
+                 double limit, Emit&& emit) {
+    ++stats.pairs_solved;
+    const auto& mf = F[f];
+    const auto& sf = st.F[g];
+    std::vector<ContactRoot> roots;
+    const double hi = std::min(b, limit);
+    if (hi < a) return;
+    auto make = [&](ContactType type, const ContactRoot& r) {
+      Contact c;
+      c.span = span_index;
+      c.span_time = r.lo;
+      c.t = globalTime(d, r.lo);
+      c.type = type;
+      c.crossing = r.crossing;
+      c.certain = r.certain;
+      return c;
+    };
+    // Moving vertices against the static face's plane.
+    for (int k = 0; k < 3; ++k) {
+      roots.clear();
+      ++stats.feature_solves;
+      d.fwd.pointPlane(d.W0[mf[k]], st.normal[g], st.offset[g], a, hi, roots);
+      for (const ContactRoot& r : roots) {
+        const Vec x = d.fwd.power(r.t).applyPoint(d.W0[mf[k]]);
+        const Vec cp = closestOnTriangle(x, st.V[sf[0]], st.V[sf[1]], st.V[sf[2]]);
+        if ((x - cp).norm() > tol + std::abs(st.normal[g].dot(x) - st.offset[g])) continue;
+        Contact c = make(ContactType::VertexFace, r);
+        c.moving = {mf[k], -1};
+        c.fixed = {static_cast<int>(g), -1};
+        c.point = cp;
+        c.normal = st.normal[g];
+        emit(c);
+      }
+    }
+    // Static vertices against the moving face (in the frame of the span start, on the inverse span).
+    const Vec n0 = (d.W0[mf[1]] - d.W0[mf[0]]).cross(d.W0[mf[2]] - d.W0[mf[0]]);
+    const double h0 = n0.dot(d.W0[mf[0]]);
+    for (int k = 0; k < 3; ++k) {
+      roots.clear();
+      ++stats.feature_solves;
+      d.inv.pointPlane(st.V[sf[k]], n0, h0, a, hi, roots);
+      for (const ContactRoot& r : roots) {
+        const Affine3 Pt = d.fwd.power(r.t);
+        const Vec X0 = Pt.applyPoint(d.W0[mf[0]]), X1 = Pt.applyPoint(d.W0[mf[1]]), X2 = Pt.applyPoint(d.W0[mf[2]]);
+        const Vec& q = st.V[sf[k]];
+        const Vec cp = closestOnTriangle(q, X0, X1, X2);
+        const Vec nt = (X1 - X0).cross(X2 - X0).normalized();
+        if ((q - cp).norm() > tol + std::abs(nt.dot(q - X0))) continue;
+        Contact c = make(ContactType::FaceVertex, r);
+        c.moving = {static_cast<int>(f), -1};
+        c.fixed = {sf[k], -1};
+        c.point = st.V[sf[k]];
+        c.normal = nt;
+        emit(c);
+      }
+    }
+    // Edges against edges.
+    for (int i = 0; i < 3; ++i) {
+      const int ma = mf[i], mb = mf[(i + 1) % 3];
+      for (int j = 0; j < 3; ++j) {
+        const int sa = sf[j], sb = sf[(j + 1) % 3];
+        roots.clear();
+        ++stats.feature_solves;
+        d.fwd.edgeEdge(d.W0[ma], d.W0[mb], st.V[sa], st.V[sb], a, hi, roots);
+        for (const ContactRoot& r : roots) {
+          const Affine3 Pt = d.fwd.power(r.t);
+          const Vec x0 = Pt.applyPoint(d.W0[ma]), x1 = Pt.applyPoint(d.W0[mb]);
+          Vec cp, cq;
+          if (segmentDistance(x0, x1, st.V[sa], st.V[sb], cp, cq) > tol) continue;
+          Contact c = make(ContactType::EdgeEdge, r);
+          c.moving = {std::min(ma, mb), std::max(ma, mb)};
+          c.fixed = {std::min(sa, sb), std::max(sa, sb)};
+          c.point = 0.5 * (cp + cq);
+          const Vec n = (x1 - x0).cross(st.V[sb] - st.V[sa]);
+          c.normal = n.norm() > 0 ? n.normalized() : Vec::Zero();
+          emit(c);
+        }
+      }
+    }
+  }
+
+  enum class Mode { First, All, Any };
+  // Runs the narrow phase over the time-ordered pairs. First: stops when no slice can hold a
+  // contact earlier than the best found; Any: stops at the first contact found.
+  std::vector<Contact> run(Mode mode) {
+    const bool first_only = mode != Mode::All;
+    std::vector<PairHit> pairs = broadPhase();
+    const auto start = Clock::now();
+    std::vector<Contact> out;
+    std::optional<Contact> best;
+    bool any_found = false;
+    const std::size_t nf = F.size();
+    for (const PairHit& p : pairs) {
+      if (any_found) break;
+      const std::size_t slice = p.moving / nf, f = p.moving % nf;
+      const std::size_t si = slice / static_cast<std::size_t>(K), k = slice % static_cast<std::size_t>(K);
+      const SpanData& d = spans[si];
+      const double a = static_cast<double>(k) / K, b = static_cast<double>(k + 1) / K;
+      if (first_only && best && (si > best->span || (si == best->span && a > best->span_time))) break;
+      const double limit = first_only && best && si == best->span ? best->span_time : b;
+      solvePair(si, d, a, b, f, p.fixed, limit, [&](const Contact& c) {
+        if (mode == Mode::Any) any_found = true;
+        if (first_only) {
+          if (!best || c.t < best->t) best = c;
+        } else {
+          out.push_back(c);
+        }
+      });
+    }
+    if (first_only && best) out.push_back(*best);
+    if (!first_only) {
+      std::sort(out.begin(), out.end(), [](const Contact& x, const Contact& y) { return x.t < y.t; });
+      // Merge duplicates of one event (the same feature pair found through adjacent triangles).
+      std::vector<Contact> merged;
+      for (const Contact& c : out) {
+        bool dup = false;
+        for (auto it = merged.rbegin(); it != merged.rend() && c.t - it->t <= 1e-9 * (1 + std::abs(c.t)); ++it)
+          if (it->type == c.type && it->moving == c.moving && it->fixed == c.fixed) {
+            dup = true;
+            break;
+          }
+        if (!dup) merged.push_back(c);
+      }
+      out = std::move(merged);
+    }
+    stats.narrow_seconds += seconds(start, Clock::now());
+    return out;
+  }
+};
+
+}  // namespace
+
+std::optional<Contact> StaticScene::firstContact(const std::vector<Vec>& vertices, const Faces& faces,
+                                                 const Motion3& motion, const CollideOptions& options,
+                                                 CollideStats* stats) const {
+  Query q(*impl_, vertices, faces, motion, options);
+  std::vector<Contact> c = q.run(Query::Mode::First);
+  if (stats) *stats = q.stats;
+  if (c.empty()) return std::nullopt;
+  return c.front();
+}
+
+std::vector<Contact> StaticScene::contacts(const std::vector<Vec>& vertices, const Faces& faces,
+                                           const Motion3& motion, const CollideOptions& options,
+                                           CollideStats* stats) const {
+  Query q(*impl_, vertices, faces, motion, options);
+  std::vector<Contact> c = q.run(Query::Mode::All);
+  if (stats) *stats = q.stats;
+  return c;
+}
+
+bool StaticScene::touches(const std::vector<Vec>& vertices, const Faces& faces, const Motion3& motion,
+                          const CollideOptions& options) const {
+  Query q(*impl_, vertices, faces, motion, options);
+  return !q.run(Query::Mode::Any).empty();
+}
+
+}  // namespace steady

@@ -1,0 +1,286 @@
+// Mesh contact queries: the cube-on-slab answers, translations, each feature type, bad input,
+// and a seeded property test against an independent oracle (dense sampling of the motion with an
+// exact triangle/triangle intersection test, then bisection).
+#include <steady/collide/collide.hpp>
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <vector>
+
+namespace {
+
+using steady::Affine3;
+using steady::Contact;
+using steady::ContactType;
+using steady::Motion3;
+using steady::StaticScene;
+using V = Eigen::Vector3d;
+using Faces = std::vector<std::array<int, 3>>;
+
+struct Mesh {
+  std::vector<V> v;
+  Faces f;
+};
+
+// An axis-aligned box, outward-oriented triangles.
+Mesh box(const V& lo, const V& hi) {
+  Mesh m;
+  for (int i = 0; i < 8; ++i) m.v.emplace_back(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
+  m.f = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+         {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  return m;
+}
+
+// A regular octahedron of radius r about c.
+Mesh octahedron(const V& c, double r) {
+  Mesh m;
+  m.v = {c + V(r, 0, 0), c + V(-r, 0, 0), c + V(0, r, 0), c + V(0, -r, 0), c + V(0, 0, r), c + V(0, 0, -r)};
+  m.f = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+  return m;
+}
+
+double cubeFirstContact(double theta) {  // see test_span_roots.cpp
+  double best = 2;
+  for (double y : {1.5, 2.5})
+    for (double z : {-0.5, 0.5}) {
+      const double R = std::hypot(y, z), a = std::atan2(y, z), base = std::acos(-1.2 / R);
+      for (int k = -2; k <= 2; ++k)
+        for (double sg : {1.0, -1.0}) {
+          const double s = (sg * base + 2 * M_PI * k - a) / theta;
+          if (s >= 0 && s <= 1) best = std::min(best, s);
+        }
+    }
+  return best;
+}
+
+TEST(Collide, CubeOnSlabFirstContact) {
+  const Mesh slab = box(V(-10, -10, -11), V(10, 10, -1.2));
+  const StaticScene scene(slab.v, slab.f);
+  const Mesh cube = box(V(-0.5, -0.5, -0.5), V(0.5, 0.5, 0.5));
+  for (double theta : {1.0, 2.0, 3.0}) {
+    const Affine3 B = Affine3::translation(V(0, 2, 0));
+    const Affine3 C = Affine3::translation(V(0.7, 0, 0)) * Affine3::rotation(V(1, 0, 0), -theta) * B;
+    const Motion3 motion = Motion3::polySam(std::vector<Affine3>{B, C});
+    steady::CollideStats stats;
+    const auto c = scene.firstContact(cube.v, cube.f, motion, {}, &stats);
+    ASSERT_TRUE(c.has_value()) << "theta " << theta;
+    EXPECT_NEAR(c->t, cubeFirstContact(theta), 1e-11) << "theta " << theta;
+    EXPECT_LE(c->t, cubeFirstContact(theta) + 1e-12);  // never late
+    EXPECT_NEAR(c->point.z(), -1.2, 1e-9);
+    EXPECT_NEAR(std::abs(c->normal.z()), 1.0, 1e-12);
+    EXPECT_GT(stats.candidate_pairs, 0u);
+    EXPECT_TRUE(scene.touches(cube.v, cube.f, motion));
+  }
+}
+
+TEST(Collide, TranslationOntoAFaceEdgeAndVertex) {
+  // A cube centred at z = 2 falling by 4 onto the slab: its bottom face (at 1.5 - 4 s) reaches
+  // z = -1.2 at s = 2.7 / 4.
+  const Mesh slab = box(V(-10, -10, -11), V(10, 10, -1.2));
+  const StaticScene scene(slab.v, slab.f);
+  const Mesh cube = box(V(-0.5, -0.5, -0.5), V(0.5, 0.5, 0.5));
+  const Affine3 B = Affine3::translation(V(0, 0, 2)), C = Affine3::translation(V(0, 0, -2));
+  const Motion3 motion = Motion3::polySam(std::vector<Affine3>{B, C});
+  const auto c = scene.firstContact(cube.v, cube.f, motion);
+  ASSERT_TRUE(c.has_value());
+  EXPECT_NEAR(c->t, (2 - 0.5 + 1.2) / 4, 1e-12);
+  // Moving the other way: never touches.
+  EXPECT_FALSE(scene.touches(cube.v, cube.f, Motion3::polySam(std::vector<Affine3>{B, Affine3::translation(V(0, 0, 6))})));
+
+  // Edge/edge only: a cube turned 45 degrees about x (an edge lowest) moving along x across a
+  // static cube turned 45 degrees about y (an edge highest): the edges cross without any vertex
+  // touching a face first. Lowest moving edge at z = 3 - sqrt(0.5) - 4 s; highest static edge at
+  // z = sqrt(0.5): contact at s = (3 - 2 sqrt(0.5)) / 4.
+  const Affine3 down45 = Affine3::rotation(V(1, 0, 0), M_PI / 4);
+  const Mesh mover = cube;
+  Mesh fixed = cube;
+  for (V& p : fixed.v) p = Affine3::rotation(V(0, 1, 0), M_PI / 4).applyPoint(p);
+  const StaticScene scene2(fixed.v, fixed.f);
+  const Motion3 fall = Motion3::polySam(std::vector<Affine3>{Affine3::translation(V(0, 0, 3)) * down45,
+                                                              Affine3::translation(V(0, 0, -1)) * down45});
+  const auto e = scene2.firstContact(mover.v, mover.f, fall);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->type, ContactType::EdgeEdge);
+  EXPECT_NEAR(e->t, (3 - 2 * std::sqrt(0.5)) / 4, 1e-12);
+  EXPECT_NEAR(e->point.z(), std::sqrt(0.5), 1e-9);
+}
+
+TEST(Collide, FaceVertexWhenAStaticTipMeetsAMovingFace) {
+  // A static upward tip (octahedron top vertex at z = 1) and a large plate falling onto it: the
+  // plate's lower face reaches the tip first; only a face/vertex feature can see it (no moving
+  // vertex or edge is near the tip).
+  const Mesh tip = octahedron(V(0, 0, 0), 1.0);
+  const StaticScene scene(tip.v, tip.f);
+  const Mesh plate = box(V(-5, -4, -0.1), V(5, 6, 0.1));  // diagonals miss the tip
+  const Affine3 B = Affine3::translation(V(0, 0, 3));
+  const Motion3 drop = Motion3::polySam(std::vector<Affine3>{B, Affine3::translation(V(0, 0, -1))});
+  const auto c = scene.firstContact(plate.v, plate.f, drop);
+  ASSERT_TRUE(c.has_value());
+  EXPECT_EQ(c->type, ContactType::FaceVertex);
+  EXPECT_EQ(c->fixed[0], 4);  // the top vertex
+  EXPECT_NEAR(c->t, (3 - 0.1 - 1) / 4, 1e-12);
+}
+
+TEST(Collide, AllContactsAreOrderedAndMerged) {
+  const Mesh slab = box(V(-10, -10, -11), V(10, 10, -1.2));
+  const StaticScene scene(slab.v, slab.f);
+  const Mesh cube = box(V(-0.5, -0.5, -0.5), V(0.5, 0.5, 0.5));
+  const Affine3 B = Affine3::translation(V(0, 2, 0));
+  const Affine3 C = Affine3::translation(V(0.7, 0, 0)) * Affine3::rotation(V(1, 0, 0), -1.0) * B;
+  const auto all = scene.contacts(cube.v, cube.f, Motion3::polySam(std::vector<Affine3>{B, C}));
+  ASSERT_FALSE(all.empty());
+  EXPECT_NEAR(all.front().t, cubeFirstContact(1.0), 1e-11);
+  for (std::size_t i = 1; i < all.size(); ++i) EXPECT_LE(all[i - 1].t, all[i].t);
+  for (std::size_t i = 1; i < all.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      EXPECT_FALSE(all[i].type == all[j].type && all[i].moving == all[j].moving && all[i].fixed == all[j].fixed &&
+                   std::abs(all[i].t - all[j].t) < 1e-9)
+          << "duplicate event " << i << " and " << j;
+}
+
+TEST(Collide, BadInputGivesTypedErrors) {
+  const Mesh slab = box(V(-1, -1, -1), V(1, 1, 0));
+  auto code = [](auto f) {
+    try {
+      f();
+    } catch (const steady::Error& e) {
+      return e.code();
+    }
+    return steady::ErrorCode::InvalidFile;  // "no error"
+  };
+  EXPECT_EQ(code([&] { StaticScene s({}, {}); }), steady::ErrorCode::DegenerateInput);
+  EXPECT_EQ(code([&] { StaticScene s(slab.v, {{0, 1, 99}}); }), steady::ErrorCode::InvalidArgument);
+  EXPECT_EQ(code([&] { StaticScene s(slab.v, {{0, 1, 1}}); }), steady::ErrorCode::DegenerateInput);
+  std::vector<V> bad = slab.v;
+  bad[3].x() = NAN;
+  EXPECT_EQ(code([&] { StaticScene s(bad, slab.f); }), steady::ErrorCode::NonFinite);
+  const StaticScene scene(slab.v, slab.f);
+  const Motion3 m = Motion3::polySam(std::vector<Affine3>{Affine3(), Affine3::translation(V(1, 0, 0))});
+  EXPECT_EQ(code([&] { scene.firstContact(bad, slab.f, m); }), steady::ErrorCode::NonFinite);
+  steady::CollideOptions o;
+  o.slices = 0;
+  EXPECT_EQ(code([&] { scene.firstContact(slab.v, slab.f, m, o); }), steady::ErrorCode::InvalidArgument);
+}
+
+// ---- independent oracle ------------------------------------------------------------------------
+
+// Whether segment [p, q] meets triangle (a, b, c) (generic position: no coplanarity handling).
+bool segmentHitsTriangle(const V& p, const V& q, const V& a, const V& b, const V& c) {
+  const V d = q - p, e1 = b - a, e2 = c - a;
+  const V h = d.cross(e2);
+  const double det = e1.dot(h);
+  if (std::abs(det) < 1e-300) return false;
+  const double inv = 1.0 / det;
+  const V s = p - a;
+  const double u = s.dot(h) * inv;
+  if (u < 0 || u > 1) return false;
+  const V qv = s.cross(e1);
+  const double v = d.dot(qv) * inv;
+  if (v < 0 || u + v > 1) return false;
+  const double t = e2.dot(qv) * inv;
+  return t >= 0 && t <= 1;
+}
+
+bool trianglesIntersect(const std::array<V, 3>& A, const std::array<V, 3>& B) {
+  for (int i = 0; i < 3; ++i) {
+    if (segmentHitsTriangle(A[i], A[(i + 1) % 3], B[0], B[1], B[2])) return true;
+    if (segmentHitsTriangle(B[i], B[(i + 1) % 3], A[0], A[1], A[2])) return true;
+  }
+  return false;
+}
+
+bool meshesIntersect(const Mesh& moving, const Affine3& pose, const Mesh& fixed) {
+  std::vector<V> w(moving.v.size());
+  for (std::size_t i = 0; i < w.size(); ++i) w[i] = pose.applyPoint(moving.v[i]);
+  for (const auto& f : moving.f)
+    for (const auto& g : fixed.f)
+      if (trianglesIntersect({w[f[0]], w[f[1]], w[f[2]]}, {fixed.v[g[0]], fixed.v[g[1]], fixed.v[g[2]]})) return true;
+  return false;
+}
+
+// Seeded random scenes: an octahedron or a box on a random SAM (or 2-span polySAM) near a
+// static octahedron or box. The oracle samples 1000 times per span, then bisects the first
+// sample interval where the surfaces intersect. steady must never be later than the oracle
+// (1e-9), agree with it (1e-9) unless it found a contact the sampling stepped over, and such an
+// earlier contact must be real: the surfaces intersect within one sample step after it, or it is
+// a touch (crossing 0).
+TEST(CollideOracle, RandomScenesFirstContactAgreesWithSampling) {
+  std::mt19937_64 rng(2718281828);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  int contacts = 0, none = 0, earlier = 0;
+  double worst = 0;
+  for (int trial = 0; trial < 500; ++trial) {
+    const Mesh fixed = trial % 2 ? octahedron(V(0, 0, 0), 1.0) : box(V(-0.8, -0.6, -0.7), V(0.7, 0.9, 0.6));
+    const Mesh moving = trial % 3 ? octahedron(V(0, 0, 0), 0.6) : box(V(-0.5, -0.3, -0.4), V(0.4, 0.5, 0.3));
+    const StaticScene scene(fixed.v, fixed.f);
+    // Start 2.5 away in a random direction, end near the other side, with a random turn and
+    // shear/scale.
+    const V dir = V(U(rng), U(rng), U(rng)).normalized();
+    const Affine3 B = Affine3::translation(2.5 * dir) * Affine3::rotation(V(U(rng), U(rng), U(rng)), 3 * U(rng));
+    Eigen::Matrix3d L = Eigen::Matrix3d::Identity();
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) L(i, j) += 0.25 * U(rng);
+    const Affine3 C = Affine3(L, -1.5 * dir + 0.8 * V(U(rng), U(rng), U(rng))) *
+                      Affine3::rotation(V(U(rng), U(rng), U(rng)), 3 * U(rng));
+    if (L.determinant() <= 0 || !steady::samExists(B, C)) continue;
+    std::vector<Affine3> keys{B, C};
+    if (trial % 4 == 0) keys.insert(keys.begin() + 1, steady::sam(B, 0.5, C) * Affine3::rotation(V(0, 0, 1), 0.5));
+    steady::MotionOptions split;
+    split.no_sam = steady::NoSamPolicy::Split;
+    const Motion3 motion = Motion3::polySam(keys, split);
+    const auto got = scene.firstContact(moving.v, moving.f, motion);
+    // Oracle.
+    const int N = 1000 * static_cast<int>(motion.spanCount());
+    double t_oracle = -1;
+    for (int k = 0; k <= N; ++k) {
+      const double t = static_cast<double>(k) / N;
+      if (meshesIntersect(moving, motion.pose(t), fixed)) {
+        double lo = k == 0 ? 0 : static_cast<double>(k - 1) / N, hi = t;
+        if (k == 0) {
+          t_oracle = 0;
+          break;
+        }
+        while (hi - lo > 1e-13) {
+          const double mid = 0.5 * (lo + hi);
+          (meshesIntersect(moving, motion.pose(mid), fixed) ? hi : lo) = mid;
+        }
+        t_oracle = hi;
+        break;
+      }
+    }
+    if (t_oracle < 0) {
+      ++none;
+      if (got) {  // only a contact the sampling stepped over may be reported
+        ++earlier;
+        bool real = got->crossing == 0;
+        for (int k = 1; k <= 200 && !real; ++k)
+          real = meshesIntersect(moving, motion.pose(got->t + k * 1e-2 / N), fixed);
+        EXPECT_TRUE(real) << "trial " << trial << ": contact at " << got->t << " but the oracle sees none";
+      }
+      continue;
+    }
+    ++contacts;
+    ASSERT_TRUE(got.has_value()) << "trial " << trial << ": missed the contact at " << t_oracle;
+    EXPECT_LE(got->t, t_oracle + 1e-9) << "trial " << trial << ": late";
+    if (got->t < t_oracle - 1e-9) {
+      ++earlier;
+      bool real = got->crossing == 0;
+      for (int k = 1; k <= 200 && !real; ++k) real = meshesIntersect(moving, motion.pose(got->t + k * 1e-2 / N), fixed);
+      EXPECT_TRUE(real) << "trial " << trial << ": contact at " << got->t << " before the oracle's " << t_oracle
+                        << " is not followed by an intersection";
+    } else {
+      worst = std::max(worst, std::abs(got->t - t_oracle));
+    }
+  }
+  EXPECT_GT(contacts, 300);
+  std::printf("contacts %d, no contact %d, earlier than sampling %d, worst time difference %.3g\n", contacts,
+              none, earlier, worst);
+}
+
+}  // namespace
