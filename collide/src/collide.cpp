@@ -3,6 +3,7 @@
 #include <steady/collide/collide.hpp>
 
 #include "isolate.hpp"
+#include "relative.hpp"
 
 #include <embree3/rtcore.h>
 
@@ -118,6 +119,31 @@ double segmentDistance(const Vec& p0, const Vec& p1, const Vec& q0, const Vec& q
   return (cp - cq).norm();
 }
 
+// Sorts contact events by time and drops duplicates of one event (the same feature pair found
+// through adjacent triangles, within 1e-9 relative in time).
+void mergeEvents(std::vector<Contact>& out) {
+  std::sort(out.begin(), out.end(), [](const Contact& x, const Contact& y) { return x.t < y.t; });
+  std::vector<Contact> merged;
+  for (const Contact& c : out) {
+    bool dup = false;
+    for (auto it = merged.rbegin(); it != merged.rend() && c.t - it->t <= 1e-9 * (1 + std::abs(c.t)); ++it)
+      if (it->type == c.type && it->a == c.a && it->b == c.b) {
+        dup = true;
+        break;
+      }
+    if (!dup) merged.push_back(c);
+  }
+  out = std::move(merged);
+}
+
+// Whether point x (world) lies on triangle (p, q, r) within tol plus its distance to the
+// triangle's plane (the root solve puts it on the plane up to rounding); sets the closest point.
+bool onTriangle(const Vec& x, const Vec& p, const Vec& q, const Vec& r, double tol, Vec& cp) {
+  cp = closestOnTriangle(x, p, q, r);
+  const Vec n = (q - p).cross(r - p).normalized();
+  return (x - cp).norm() <= tol + std::abs(n.dot(x - p));
+}
+
 struct PairHit {
   unsigned moving, fixed;  // moving primitive (slice-major), static face
 };
@@ -176,6 +202,13 @@ RTCDevice newDevice() {
   RTCDevice d = rtcNewDevice(nullptr);
   if (!d) throw Error(ErrorCode::InvalidArgument, "Embree could not create a device (rtcNewDevice failed)");
   return d;
+}
+
+// One Embree device for the two-body queries (creating one costs tens of milliseconds); Embree
+// devices are thread-safe. Never released: it lives as long as the process.
+RTCDevice sharedDevice() {
+  static const RTCDevice device = newDevice();
+  return device;
 }
 
 // A user geometry of `count` primitives with the given bounds callback, committed into `scene`.
@@ -353,8 +386,8 @@ struct Query {
         const Vec cp = closestOnTriangle(x, st.V[sf[0]], st.V[sf[1]], st.V[sf[2]]);
         if ((x - cp).norm() > tol + std::abs(st.normal[g].dot(x) - st.offset[g])) continue;
         Contact c = make(ContactType::VertexFace, r);
-        c.moving = {mf[k], -1};
-        c.fixed = {static_cast<int>(g), -1};
+        c.a = {mf[k], -1};
+        c.b = {static_cast<int>(g), -1};
         c.point = cp;
         c.normal = st.normal[g];
         emit(c);
@@ -375,8 +408,8 @@ struct Query {
         const Vec nt = (X1 - X0).cross(X2 - X0).normalized();
         if ((q - cp).norm() > tol + std::abs(nt.dot(q - X0))) continue;
         Contact c = make(ContactType::FaceVertex, r);
-        c.moving = {static_cast<int>(f), -1};
-        c.fixed = {sf[k], -1};
+        c.a = {static_cast<int>(f), -1};
+        c.b = {sf[k], -1};
         c.point = st.V[sf[k]];
         c.normal = nt;
         emit(c);
@@ -396,8 +429,8 @@ struct Query {
           Vec cp, cq;
           if (segmentDistance(x0, x1, st.V[sa], st.V[sb], cp, cq) > tol) continue;
           Contact c = make(ContactType::EdgeEdge, r);
-          c.moving = {std::min(ma, mb), std::max(ma, mb)};
-          c.fixed = {std::min(sa, sb), std::max(sa, sb)};
+          c.a = {std::min(ma, mb), std::max(ma, mb)};
+          c.b = {std::min(sa, sb), std::max(sa, sb)};
           c.point = 0.5 * (cp + cq);
           const Vec n = (x1 - x0).cross(st.V[sb] - st.V[sa]);
           c.normal = n.norm() > 0 ? n.normalized() : Vec::Zero();
@@ -436,27 +469,311 @@ struct Query {
       });
     }
     if (first_only && best) out.push_back(*best);
-    if (!first_only) {
-      std::sort(out.begin(), out.end(), [](const Contact& x, const Contact& y) { return x.t < y.t; });
-      // Merge duplicates of one event (the same feature pair found through adjacent triangles).
-      std::vector<Contact> merged;
-      for (const Contact& c : out) {
-        bool dup = false;
-        for (auto it = merged.rbegin(); it != merged.rend() && c.t - it->t <= 1e-9 * (1 + std::abs(c.t)); ++it)
-          if (it->type == c.type && it->moving == c.moving && it->fixed == c.fixed) {
-            dup = true;
-            break;
-          }
-        if (!dup) merged.push_back(c);
-      }
-      out = std::move(merged);
-    }
+    if (!first_only) mergeEvents(out);
     stats.narrow_seconds += seconds(start, Clock::now());
     return out;
   }
 };
 
 }  // namespace
+
+// ---- two moving meshes -----------------------------------------------------------------------------
+
+namespace {
+
+// Positions of one moving mesh's vertices at the start of each of its spans (computed on demand).
+struct MovingSide {
+  const std::vector<Vec>& V;
+  const Faces& F;
+  const Motion3& motion;
+  std::vector<std::vector<Vec>> start;  // per span
+  std::vector<double> mu;               // spectral bound of each span's M
+  MovingSide(const MovingMesh& m) : V(m.vertices), F(m.faces), motion(m.motion) {
+    start.resize(motion.spanCount());
+    mu.assign(motion.spanCount(), -1.0);
+  }
+  const std::vector<Vec>& at(std::size_t i) {
+    if (start[i].empty()) {
+      start[i].resize(V.size());
+      for (std::size_t v = 0; v < V.size(); ++v) start[i][v] = motion.span(i).start().applyPoint(V[v]);
+      mu[i] = detail::spectralBound(motion.span(i).log().M);
+    }
+    return start[i];
+  }
+};
+
+// One interval of the merged key times on which a and b each follow one span.
+struct TwoInterval {
+  double ta, tb;
+  std::size_t ia, ib;  // spans
+  double sa0, da, sb0, db;  // span parameters sa = sa0 + da tau, sb = sb0 + db tau
+};
+
+struct TwoQuery {
+  MovingSide A, B;
+  const CollideOptions& o;
+  int K;
+  double tol;
+  std::vector<TwoInterval> iv;
+  std::vector<detail::RelativeRoots> ab, ba;  // per interval: a against b, b against a
+  std::vector<float> boxA, boxB;               // 6 floats per primitive, slice-major
+  CollideStats stats;
+
+  TwoQuery(const MovingMesh& a, const MovingMesh& b, const CollideOptions& opt) : A(a), B(b), o(opt), K(opt.slices) {
+    if (o.slices < 1 || o.slices > 128)
+      throw Error(ErrorCode::InvalidArgument, "CollideOptions::slices must be in 1..128, got " + std::to_string(o.slices));
+    if (!(o.contact_tolerance >= 0) || !std::isfinite(o.contact_tolerance))
+      throw Error(ErrorCode::InvalidArgument, "CollideOptions::contact_tolerance must be finite and >= 0");
+    checkMesh(A.V, A.F, "the first moving");
+    checkMesh(B.V, B.F, "the second moving");
+    tol = o.contact_tolerance * std::max(boxDiagonal(A.V), boxDiagonal(B.V));
+    const double t0 = std::max(A.motion.beginTime(), B.motion.beginTime());
+    const double t1 = std::min(A.motion.endTime(), B.motion.endTime());
+    if (!(t1 > t0))
+      throw Error(ErrorCode::InvalidArgument, "the two motions share no time: [" + std::to_string(A.motion.beginTime()) +
+                                                  ", " + std::to_string(A.motion.endTime()) + "] and [" +
+                                                  std::to_string(B.motion.beginTime()) + ", " +
+                                                  std::to_string(B.motion.endTime()) + "]");
+    std::vector<double> times{t0, t1};
+    for (const Motion3* m : {&A.motion, &B.motion})
+      for (std::size_t i = 0; i <= m->spanCount(); ++i) {
+        const double t = i < m->spanCount() ? m->spanBegin(i) : m->endTime();
+        if (t > t0 && t < t1) times.push_back(t);
+      }
+    std::sort(times.begin(), times.end());
+    times.erase(std::unique(times.begin(), times.end()), times.end());
+    for (std::size_t j = 0; j + 1 < times.size(); ++j) {
+      TwoInterval w;
+      w.ta = times[j];
+      w.tb = times[j + 1];
+      const double mid = 0.5 * (w.ta + w.tb);
+      w.ia = A.motion.spanIndex(mid);
+      w.ib = B.motion.spanIndex(mid);
+      const double la = A.motion.spanEnd(w.ia) - A.motion.spanBegin(w.ia);
+      const double lb = B.motion.spanEnd(w.ib) - B.motion.spanBegin(w.ib);
+      w.sa0 = (w.ta - A.motion.spanBegin(w.ia)) / la;
+      w.da = (w.tb - w.ta) / la;
+      w.sb0 = (w.ta - B.motion.spanBegin(w.ib)) / lb;
+      w.db = (w.tb - w.ta) / lb;
+      A.at(w.ia);
+      B.at(w.ib);
+      iv.push_back(w);
+      ab.emplace_back(A.motion.span(w.ia), w.sa0, w.da, A.mu[w.ia], B.motion.span(w.ib), w.sb0, w.db, B.mu[w.ib], o.roots);
+      ba.emplace_back(B.motion.span(w.ib), w.sb0, w.db, B.mu[w.ib], A.motion.span(w.ia), w.sa0, w.da, A.mu[w.ia], o.roots);
+    }
+    buildBoxes();
+  }
+
+  // Swept boxes of both meshes per (interval, slice), offset along x by slice so that boxes of
+  // different slices never overlap (then rtcCollide only pairs boxes of the same slice).
+  void buildBoxes() {
+    const std::size_t slices = iv.size() * static_cast<std::size_t>(K);
+    std::vector<double> lo[2], hi[2];
+    double extent = 1.0;
+    for (int side = 0; side < 2; ++side) {
+      MovingSide& m = side == 0 ? A : B;
+      const std::size_t nf = m.F.size(), nv = m.V.size();
+      lo[side].assign(slices * nf * 3, 0.0);
+      hi[side].assign(slices * nf * 3, 0.0);
+      std::vector<Vec> mid(nv);
+      std::vector<double> rad(nv);
+      for (std::size_t j = 0; j < iv.size(); ++j) {
+        const TwoInterval& w = iv[j];
+        const std::size_t span = side == 0 ? w.ia : w.ib;
+        const double s0 = side == 0 ? w.sa0 : w.sb0, d = side == 0 ? w.da : w.db;
+        const Span3& sp = m.motion.span(span);
+        const auto& W0 = m.start[span];
+        const double r = 0.5 / K * d;  // half-slice, in span parameter
+        const double grow = r * detail::phi1(r * m.mu[span]) * detail::kBoundSlack;
+        for (int k = 0; k < K; ++k) {
+          const Affine3 P = sp.power(s0 + d * (k + 0.5) / K);
+          for (std::size_t v = 0; v < nv; ++v) {
+            mid[v] = P.applyPoint(W0[v]);
+            rad[v] = sp.velocity(mid[v]).norm() * grow + 1e-14 * (mid[v].norm() + W0[v].norm());
+          }
+          const std::size_t slice = j * static_cast<std::size_t>(K) + static_cast<std::size_t>(k);
+          for (std::size_t f = 0; f < nf; ++f) {
+            Vec l = Vec::Constant(std::numeric_limits<double>::infinity()), h = -l;
+            for (int c = 0; c < 3; ++c) {
+              const int vi = m.F[f][c];
+              l = l.cwiseMin(mid[vi] - Vec::Constant(rad[vi]));
+              h = h.cwiseMax(mid[vi] + Vec::Constant(rad[vi]));
+            }
+            for (int c = 0; c < 3; ++c) {
+              lo[side][(slice * nf + f) * 3 + c] = l[c];
+              hi[side][(slice * nf + f) * 3 + c] = h[c];
+              extent = std::max({extent, std::abs(l[c]), std::abs(h[c])});
+            }
+          }
+        }
+      }
+    }
+    const double step = 2 * extent + 1;
+    for (int side = 0; side < 2; ++side) {
+      std::vector<float>& out = side == 0 ? boxA : boxB;
+      const std::size_t n = lo[side].size() / 3, nf = (side == 0 ? A : B).F.size();
+      out.resize(n * 6);
+      for (std::size_t p = 0; p < n; ++p) {
+        const double shift = static_cast<double>(p / nf) * step;
+        RTCBounds b;
+        storeBounds(&b, Vec(lo[side][3 * p] + shift, lo[side][3 * p + 1], lo[side][3 * p + 2]),
+                    Vec(hi[side][3 * p] + shift, hi[side][3 * p + 1], hi[side][3 * p + 2]));
+        float* q = &out[6 * p];
+        q[0] = b.lower_x, q[1] = b.lower_y, q[2] = b.lower_z, q[3] = b.upper_x, q[4] = b.upper_y, q[5] = b.upper_z;
+      }
+    }
+  }
+
+  static void boxBounds(const RTCBoundsFunctionArguments* args) {
+    const float* q = static_cast<const float*>(args->geometryUserPtr) + 6 * static_cast<std::size_t>(args->primID);
+    RTCBounds* b = args->bounds_o;
+    b->lower_x = q[0], b->lower_y = q[1], b->lower_z = q[2], b->upper_x = q[3], b->upper_y = q[4], b->upper_z = q[5];
+  }
+
+  std::vector<PairHit> broadPhase() {
+    const auto start = Clock::now();
+    const std::size_t na = boxA.size() / 6, nb = boxB.size() / 6;
+    if (na > std::numeric_limits<unsigned>::max() || nb > std::numeric_limits<unsigned>::max())
+      throw Error(ErrorCode::InvalidArgument, "too many primitives for one query (faces x intervals x slices > 2^32); "
+                                              "lower CollideOptions::slices");
+    RTCDevice device = sharedDevice();
+    RTCScene sa = rtcNewScene(device), sb = rtcNewScene(device);
+    PairSink sink;
+    addUserGeometry(device, sa, static_cast<unsigned>(na), &TwoQuery::boxBounds, boxA.data());
+    addUserGeometry(device, sb, static_cast<unsigned>(nb), &TwoQuery::boxBounds, boxB.data());
+    rtcCollide(sa, sb, &collectPairs, &sink);
+    rtcReleaseScene(sa);
+    rtcReleaseScene(sb);
+    stats.candidate_pairs = sink.pairs.size();
+    const std::size_t nf = A.F.size();
+    std::sort(sink.pairs.begin(), sink.pairs.end(),
+              [&](const PairHit& x, const PairHit& y) { return x.moving / nf < y.moving / nf; });
+    stats.broad_seconds += seconds(start, Clock::now());
+    return std::move(sink.pairs);
+  }
+
+  template <class Emit>
+  void solvePair(std::size_t j, double lo, double hi, std::size_t f, std::size_t g, Emit&& emit) {
+    ++stats.pairs_solved;
+    const TwoInterval& w = iv[j];
+    const auto& fa = A.F[f];
+    const auto& fb = B.F[g];
+    const auto& WA = A.start[w.ia];
+    const auto& WB = B.start[w.ib];
+    std::vector<ContactRoot> roots;
+    auto make = [&](ContactType type, const ContactRoot& r) {
+      Contact c;
+      c.t = w.ta + r.lo * (w.tb - w.ta);
+      c.span = w.ia;
+      c.span_time = w.sa0 + w.da * r.lo;
+      c.type = type;
+      c.crossing = r.crossing;
+      c.certain = r.certain;
+      return c;
+    };
+    auto plane = [](const Vec& p, const Vec& q, const Vec& r, Vec& n) {
+      n = (q - p).cross(r - p);
+      return n.dot(p);
+    };
+    Vec n;
+    // Vertices of a against the face of b, and vertices of b against the face of a.
+    for (int side = 0; side < 2; ++side) {
+      const auto& fv = side == 0 ? fa : fb;  // vertices from this face
+      const auto& ff = side == 0 ? fb : fa;  // against this face
+      const auto& Wv = side == 0 ? WA : WB;
+      const auto& Wf = side == 0 ? WB : WA;
+      const double h = plane(Wf[ff[0]], Wf[ff[1]], Wf[ff[2]], n);
+      const detail::RelativeRoots& rel = side == 0 ? ab[j] : ba[j];
+      for (int k = 0; k < 3; ++k) {
+        roots.clear();
+        ++stats.feature_solves;
+        rel.pointPlane(Wv[fv[k]], n, h, lo, hi, roots);
+        for (const ContactRoot& r : roots) {
+          const Affine3 Pv = rel.poseA(r.t), Pf = rel.poseB(r.t);
+          const Vec x = Pv.applyPoint(Wv[fv[k]]);
+          Vec cp;
+          if (!onTriangle(x, Pf.applyPoint(Wf[ff[0]]), Pf.applyPoint(Wf[ff[1]]), Pf.applyPoint(Wf[ff[2]]), tol, cp)) continue;
+          Contact c = make(side == 0 ? ContactType::VertexFace : ContactType::FaceVertex, r);
+          c.a = side == 0 ? std::array<int, 2>{fv[k], -1} : std::array<int, 2>{static_cast<int>(f), -1};
+          c.b = side == 0 ? std::array<int, 2>{static_cast<int>(g), -1} : std::array<int, 2>{fv[k], -1};
+          c.point = cp;
+          c.normal = (Pf.applyPoint(Wf[ff[1]]) - Pf.applyPoint(Wf[ff[0]]))
+                         .cross(Pf.applyPoint(Wf[ff[2]]) - Pf.applyPoint(Wf[ff[0]]))
+                         .normalized();
+          emit(c);
+        }
+      }
+    }
+    for (int i = 0; i < 3; ++i) {
+      const int a0 = fa[i], a1 = fa[(i + 1) % 3];
+      for (int k = 0; k < 3; ++k) {
+        const int b0 = fb[k], b1 = fb[(k + 1) % 3];
+        roots.clear();
+        ++stats.feature_solves;
+        ab[j].edgeEdge(WA[a0], WA[a1], WB[b0], WB[b1], lo, hi, roots);
+        for (const ContactRoot& r : roots) {
+          const Affine3 PA = ab[j].poseA(r.t), PB = ab[j].poseB(r.t);
+          const Vec x0 = PA.applyPoint(WA[a0]), x1 = PA.applyPoint(WA[a1]);
+          const Vec y0 = PB.applyPoint(WB[b0]), y1 = PB.applyPoint(WB[b1]);
+          Vec cp, cq;
+          if (segmentDistance(x0, x1, y0, y1, cp, cq) > tol) continue;
+          Contact c = make(ContactType::EdgeEdge, r);
+          c.a = {std::min(a0, a1), std::max(a0, a1)};
+          c.b = {std::min(b0, b1), std::max(b0, b1)};
+          c.point = 0.5 * (cp + cq);
+          const Vec nn = (x1 - x0).cross(y1 - y0);
+          c.normal = nn.norm() > 0 ? nn.normalized() : Vec::Zero();
+          emit(c);
+        }
+      }
+    }
+  }
+
+  std::vector<Contact> run(bool first_only) {
+    std::vector<PairHit> pairs = broadPhase();
+    const auto start = Clock::now();
+    std::vector<Contact> out;
+    std::optional<Contact> best;
+    const std::size_t nf = A.F.size();
+    for (const PairHit& p : pairs) {
+      const std::size_t slice = p.moving / nf, f = p.moving % nf;
+      const std::size_t j = slice / static_cast<std::size_t>(K), k = slice % static_cast<std::size_t>(K);
+      const double lo = static_cast<double>(k) / K, hi = static_cast<double>(k + 1) / K;
+      const double t_lo = iv[j].ta + lo * (iv[j].tb - iv[j].ta);
+      if (first_only && best && t_lo > best->t) break;
+      double limit = hi;
+      if (first_only && best) limit = std::min(hi, (best->t - iv[j].ta) / (iv[j].tb - iv[j].ta));
+      if (limit < lo) continue;
+      solvePair(j, lo, limit, f, p.fixed % B.F.size(), [&](const Contact& c) {
+        if (!first_only) out.push_back(c);
+        else if (!best || c.t < best->t) best = c;
+      });
+    }
+    if (first_only && best) out.push_back(*best);
+    if (!first_only) mergeEvents(out);
+    stats.narrow_seconds += seconds(start, Clock::now());
+    return out;
+  }
+};
+
+}  // namespace
+
+std::optional<Contact> firstContact(const MovingMesh& a, const MovingMesh& b, const CollideOptions& options,
+                                    CollideStats* stats) {
+  TwoQuery q(a, b, options);
+  std::vector<Contact> c = q.run(true);
+  if (stats) *stats = q.stats;
+  if (c.empty()) return std::nullopt;
+  return c.front();
+}
+
+std::vector<Contact> contacts(const MovingMesh& a, const MovingMesh& b, const CollideOptions& options,
+                              CollideStats* stats) {
+  TwoQuery q(a, b, options);
+  std::vector<Contact> c = q.run(false);
+  if (stats) *stats = q.stats;
+  return c;
+}
 
 std::optional<Contact> StaticScene::firstContact(const std::vector<Vec>& vertices, const Faces& faces,
                                                  const Motion3& motion, const CollideOptions& options,

@@ -13,6 +13,8 @@
 // tolerance (then reported as a touch: a double root or roots closer than the tolerance).
 #include <steady/collide/span_roots.hpp>
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -31,6 +33,14 @@ inline double phi1(double z) { return z < 1e-8 ? 1.0 + 0.5 * z : std::expm1(z) /
 inline double phi2(double z) {
   if (z < 1e-3) return 0.5 + z * (1.0 / 6 + z * (1.0 / 24 + z / 120));
   return (std::expm1(z) - z) / (z * z);
+}
+
+// An upper bound of the spectral norm of M (its largest singular value): the eigen-solve of
+// M^T M, inflated by 1e-12 relative so that its rounding cannot make it an underestimate, capped
+// by the Frobenius norm (always an upper bound).
+inline double spectralBound(const Eigen::Matrix3d& M) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(M.transpose() * M, Eigen::EigenvaluesOnly);
+  return std::min(M.norm(), std::sqrt(std::max(0.0, es.eigenvalues().maxCoeff())) * (1 + 1e-12) + 1e-300);
 }
 
 // Relative inflation of every derivative bound, for the rounding of its own evaluation (a few

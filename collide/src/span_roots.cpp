@@ -5,7 +5,6 @@
 
 #include "isolate.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -123,10 +122,7 @@ SpanRoots::SpanRoots(const Span3& span, const RootOptions& options) : span_(span
                 "RootOptions: time_tolerance must be > 0, value_ulps >= 1, max_intervals >= 1");
   M_ = span_.log().M;
   u_ = span_.log().u;
-  // Spectral norm of M (the largest singular value), slightly inflated so that rounding of the
-  // eigen-solve cannot make it an underestimate; capped by the Frobenius norm.
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(M_.transpose() * M_, Eigen::EigenvaluesOnly);
-  mu_ = std::min(M_.norm(), std::sqrt(std::max(0.0, es.eigenvalues().maxCoeff())) * (1 + 1e-12) + 1e-300);
+  mu_ = detail::spectralBound(M_);
   cache_.reserve(kCacheSteps + 1);
   for (int k = 0; k <= kCacheSteps; ++k) {
     const Affine3 P = span_.power(static_cast<double>(k) / kCacheSteps);

@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <random>
 #include <vector>
@@ -123,7 +124,7 @@ TEST(Collide, FaceVertexWhenAStaticTipMeetsAMovingFace) {
   const auto c = scene.firstContact(plate.v, plate.f, drop);
   ASSERT_TRUE(c.has_value());
   EXPECT_EQ(c->type, ContactType::FaceVertex);
-  EXPECT_EQ(c->fixed[0], 4);  // the top vertex
+  EXPECT_EQ(c->b[0], 4);  // the top vertex
   EXPECT_NEAR(c->t, (3 - 0.1 - 1) / 4, 1e-12);
 }
 
@@ -139,7 +140,7 @@ TEST(Collide, AllContactsAreOrderedAndMerged) {
   for (std::size_t i = 1; i < all.size(); ++i) EXPECT_LE(all[i - 1].t, all[i].t);
   for (std::size_t i = 1; i < all.size(); ++i)
     for (std::size_t j = 0; j < i; ++j)
-      EXPECT_FALSE(all[i].type == all[j].type && all[i].moving == all[j].moving && all[i].fixed == all[j].fixed &&
+      EXPECT_FALSE(all[i].type == all[j].type && all[i].a == all[j].a && all[i].b == all[j].b &&
                    std::abs(all[i].t - all[j].t) < 1e-9)
           << "duplicate event " << i << " and " << j;
 }
@@ -166,6 +167,49 @@ TEST(Collide, BadInputGivesTypedErrors) {
   steady::CollideOptions o;
   o.slices = 0;
   EXPECT_EQ(code([&] { scene.firstContact(slab.v, slab.f, m, o); }), steady::ErrorCode::InvalidArgument);
+}
+
+TEST(CollideTwoMoving, StaticPartnerGivesTheStaticAnswer) {
+  const Mesh slab = box(V(-10, -10, -11), V(10, 10, -1.2));
+  const Mesh cube = box(V(-0.5, -0.5, -0.5), V(0.5, 0.5, 0.5));
+  const Affine3 B = Affine3::translation(V(0, 2, 0));
+  const Affine3 C = Affine3::translation(V(0.7, 0, 0)) * Affine3::rotation(V(1, 0, 0), -1.0) * B;
+  const Motion3 motion = Motion3::polySam(std::vector<Affine3>{B, C});
+  const Motion3 still = Motion3::polySam(std::vector<Affine3>{Affine3(), Affine3()});
+  const auto c = steady::firstContact({cube.v, cube.f, motion}, {slab.v, slab.f, still});
+  ASSERT_TRUE(c.has_value());
+  EXPECT_NEAR(c->t, cubeFirstContact(1.0), 1e-11);
+}
+
+TEST(CollideTwoMoving, HeadOnTranslations) {
+  // Faces at -2.5 + 4t and 2.5 - 4t meet at t = 5/8; the key times of the two motions differ.
+  const Mesh cube = box(V(-0.5, -0.5, -0.5), V(0.5, 0.5, 0.5));
+  const Motion3 ma = Motion3::polySam(std::vector<steady::Keyframe<3>>{
+      {0.0, Affine3::translation(V(-3, 0, 0))}, {0.3, Affine3::translation(V(-1.8, 0, 0))}, {1.0, Affine3::translation(V(1, 0, 0))}});
+  const Motion3 mb = Motion3::polySam(std::vector<steady::Keyframe<3>>{
+      {0.0, Affine3::translation(V(3, 0.2, 0))}, {0.5, Affine3::translation(V(1, 0.2, 0))}, {1.0, Affine3::translation(V(-1, 0.2, 0))}});
+  const auto c = steady::firstContact({cube.v, cube.f, ma}, {cube.v, cube.f, mb});
+  ASSERT_TRUE(c.has_value());
+  EXPECT_NEAR(c->t, 0.625, 1e-12);
+  EXPECT_NEAR(c->point.x(), 0.0, 1e-9);
+  EXPECT_EQ(c->span, 1u);  // a's second span (0.3 .. 1)
+}
+
+TEST(CollideTwoMoving, CarriedTogetherNeverTouch) {
+  // Both bodies carried by the same screw G^t (A_t = G^t X, B_t = G^t Y): the relative pose never
+  // changes, so separated bodies never touch, however far the screw turns.
+  const Mesh cube = box(V(-0.5, -0.5, -0.5), V(0.5, 0.5, 0.5));
+  const Affine3 G = Affine3::translation(V(0.3, -0.2, 1.0)) * Affine3::rotation(V(1, 2, 3), 2.5);
+  const Affine3 X = Affine3::translation(V(0, 0, 0)), Y = Affine3::translation(V(1.2, 0.1, 0)) * Affine3::rotation(V(0, 0, 1), 0.3);
+  const Motion3 ma = Motion3::polySam(std::vector<Affine3>{X, G * X});
+  const Motion3 mb = Motion3::polySam(std::vector<Affine3>{Y, G * Y});
+  EXPECT_FALSE(steady::firstContact({cube.v, cube.f, ma}, {cube.v, cube.f, mb}).has_value());
+  // Closer, their top faces are coplanar and overlap: they touch from the start and throughout.
+  const Affine3 Z = Affine3::translation(V(0.9, 0, 0));
+  const auto c = steady::firstContact({cube.v, cube.f, ma}, {cube.v, cube.f, Motion3::polySam(std::vector<Affine3>{Z, G * Z})});
+  ASSERT_TRUE(c.has_value());
+  EXPECT_EQ(c->t, 0.0);
+  EXPECT_EQ(c->crossing, 0);
 }
 
 // ---- independent oracle ------------------------------------------------------------------------
@@ -205,20 +249,20 @@ bool meshesIntersect(const Mesh& moving, const Affine3& pose, const Mesh& fixed)
 }
 
 // Seeded random scenes: an octahedron or a box on a random SAM (or 2-span polySAM) near a
-// static octahedron or box. The oracle samples 1000 times per span, then bisects the first
-// sample interval where the surfaces intersect. steady must never be later than the oracle
-// (1e-9), agree with it (1e-9) unless it found a contact the sampling stepped over, and such an
-// earlier contact must be real: the surfaces intersect within one sample step after it, or it is
-// a touch (crossing 0).
-TEST(CollideOracle, RandomScenesFirstContactAgreesWithSampling) {
-  std::mt19937_64 rng(2718281828);
+// static octahedron or box (or, with both_moving, a box moving on its own polySAM with other key
+// times). The oracle samples 1000 times per unit time, then bisects the first sample interval
+// where the surfaces intersect. steady must never be later than the oracle (1e-9), agree with it
+// (1e-9) unless it found a contact the sampling stepped over, and such an earlier contact must be
+// real: the surfaces intersect within one sample step after it, or it is a touch (crossing 0).
+void randomScenes(bool both_moving, int trials, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> U(-1.0, 1.0);
   int contacts = 0, none = 0, earlier = 0;
   double worst = 0;
-  for (int trial = 0; trial < 500; ++trial) {
+  const steady::MotionOptions split{{}, steady::NoSamPolicy::Split, 12};
+  for (int trial = 0; trial < trials; ++trial) {
     const Mesh fixed = trial % 2 ? octahedron(V(0, 0, 0), 1.0) : box(V(-0.8, -0.6, -0.7), V(0.7, 0.9, 0.6));
     const Mesh moving = trial % 3 ? octahedron(V(0, 0, 0), 0.6) : box(V(-0.5, -0.3, -0.4), V(0.4, 0.5, 0.3));
-    const StaticScene scene(fixed.v, fixed.f);
     // Start 2.5 away in a random direction, end near the other side, with a random turn and
     // shear/scale.
     const V dir = V(U(rng), U(rng), U(rng)).normalized();
@@ -231,37 +275,50 @@ TEST(CollideOracle, RandomScenesFirstContactAgreesWithSampling) {
     if (L.determinant() <= 0 || !steady::samExists(B, C)) continue;
     std::vector<Affine3> keys{B, C};
     if (trial % 4 == 0) keys.insert(keys.begin() + 1, steady::sam(B, 0.5, C) * Affine3::rotation(V(0, 0, 1), 0.5));
-    steady::MotionOptions split;
-    split.no_sam = steady::NoSamPolicy::Split;
     const Motion3 motion = Motion3::polySam(keys, split);
-    const auto got = scene.firstContact(moving.v, moving.f, motion);
-    // Oracle.
-    const int N = 1000 * static_cast<int>(motion.spanCount());
+    // The partner: still, or wandering about the origin with its own key times.
+    std::vector<steady::Keyframe<3>> fk{{0.0, Affine3()}, {1.0, Affine3()}};
+    if (both_moving) {
+      fk = {{0.0, Affine3::rotation(V(U(rng), U(rng), U(rng)), U(rng))},
+            {0.37, Affine3::translation(0.3 * V(U(rng), U(rng), U(rng))) * Affine3::rotation(V(U(rng), U(rng), U(rng)), U(rng))},
+            {1.0, Affine3::translation(0.3 * V(U(rng), U(rng), U(rng)))}};
+    }
+    const Motion3 partner = Motion3::polySam(fk, split);
+    const auto got = steady::firstContact({moving.v, moving.f, motion}, {fixed.v, fixed.f, partner});
+    auto intersect = [&](double t) {
+      Mesh posed = fixed;
+      const Affine3 P = partner.pose(t);
+      for (V& p : posed.v) p = P.applyPoint(p);
+      return meshesIntersect(moving, motion.pose(t), posed);
+    };
+    const int N = 2000;
     double t_oracle = -1;
     for (int k = 0; k <= N; ++k) {
       const double t = static_cast<double>(k) / N;
-      if (meshesIntersect(moving, motion.pose(t), fixed)) {
-        double lo = k == 0 ? 0 : static_cast<double>(k - 1) / N, hi = t;
-        if (k == 0) {
-          t_oracle = 0;
-          break;
-        }
-        while (hi - lo > 1e-13) {
-          const double mid = 0.5 * (lo + hi);
-          (meshesIntersect(moving, motion.pose(mid), fixed) ? hi : lo) = mid;
-        }
-        t_oracle = hi;
+      if (!intersect(t)) continue;
+      if (k == 0) {
+        t_oracle = 0;
         break;
       }
+      double lo = static_cast<double>(k - 1) / N, hi = t;
+      while (hi - lo > 1e-13) {
+        const double mid = 0.5 * (lo + hi);
+        (intersect(mid) ? hi : lo) = mid;
+      }
+      t_oracle = hi;
+      break;
     }
+    auto realContact = [&](const Contact& c) {
+      if (c.crossing == 0) return true;
+      for (int k = 1; k <= 200; ++k)
+        if (intersect(c.t + k * 1e-2 / N)) return true;
+      return false;
+    };
     if (t_oracle < 0) {
       ++none;
-      if (got) {  // only a contact the sampling stepped over may be reported
+      if (got) {
         ++earlier;
-        bool real = got->crossing == 0;
-        for (int k = 1; k <= 200 && !real; ++k)
-          real = meshesIntersect(moving, motion.pose(got->t + k * 1e-2 / N), fixed);
-        EXPECT_TRUE(real) << "trial " << trial << ": contact at " << got->t << " but the oracle sees none";
+        EXPECT_TRUE(realContact(*got)) << "trial " << trial << ": contact at " << got->t << " but the oracle sees none";
       }
       continue;
     }
@@ -270,17 +327,63 @@ TEST(CollideOracle, RandomScenesFirstContactAgreesWithSampling) {
     EXPECT_LE(got->t, t_oracle + 1e-9) << "trial " << trial << ": late";
     if (got->t < t_oracle - 1e-9) {
       ++earlier;
-      bool real = got->crossing == 0;
-      for (int k = 1; k <= 200 && !real; ++k) real = meshesIntersect(moving, motion.pose(got->t + k * 1e-2 / N), fixed);
-      EXPECT_TRUE(real) << "trial " << trial << ": contact at " << got->t << " before the oracle's " << t_oracle
-                        << " is not followed by an intersection";
+      EXPECT_TRUE(realContact(*got)) << "trial " << trial << ": contact at " << got->t << " before the oracle's "
+                                     << t_oracle << " is not followed by an intersection";
     } else {
       worst = std::max(worst, std::abs(got->t - t_oracle));
     }
   }
-  EXPECT_GT(contacts, 300);
-  std::printf("contacts %d, no contact %d, earlier than sampling %d, worst time difference %.3g\n", contacts,
-              none, earlier, worst);
+  EXPECT_GT(contacts, trials / 2);
+  std::printf("contacts %d, no contact %d, earlier than sampling %d, worst time difference %.3g\n", contacts, none,
+              earlier, worst);
 }
+
+TEST(CollideOracle, StaticSceneFirstContactAgreesWithSampling) {
+  std::mt19937_64 rng(2718281828);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  int contacts = 0, none = 0, earlier = 0;
+  double worst = 0;
+  for (int trial = 0; trial < 500; ++trial) {
+    const Mesh fixed = trial % 2 ? octahedron(V(0, 0, 0), 1.0) : box(V(-0.8, -0.6, -0.7), V(0.7, 0.9, 0.6));
+    const Mesh moving = trial % 3 ? octahedron(V(0, 0, 0), 0.6) : box(V(-0.5, -0.3, -0.4), V(0.4, 0.5, 0.3));
+    const StaticScene scene(fixed.v, fixed.f);
+    const V dir = V(U(rng), U(rng), U(rng)).normalized();
+    const Affine3 B = Affine3::translation(2.5 * dir) * Affine3::rotation(V(U(rng), U(rng), U(rng)), 3 * U(rng));
+    Eigen::Matrix3d L = Eigen::Matrix3d::Identity();
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) L(i, j) += 0.25 * U(rng);
+    const Affine3 C = Affine3(L, -1.5 * dir + 0.8 * V(U(rng), U(rng), U(rng))) *
+                      Affine3::rotation(V(U(rng), U(rng), U(rng)), 3 * U(rng));
+    if (L.determinant() <= 0 || !steady::samExists(B, C)) continue;
+    const Motion3 motion = Motion3::polySam(std::vector<Affine3>{B, C});
+    const auto got = scene.firstContact(moving.v, moving.f, motion);
+    const int N = 1000;
+    double t_oracle = -1;
+    for (int k = 0; k <= N && t_oracle < 0; ++k) {
+      const double t = static_cast<double>(k) / N;
+      if (!meshesIntersect(moving, motion.pose(t), fixed)) continue;
+      double lo = k == 0 ? 0 : static_cast<double>(k - 1) / N, hi = t;
+      while (k > 0 && hi - lo > 1e-13) {
+        const double mid = 0.5 * (lo + hi);
+        (meshesIntersect(moving, motion.pose(mid), fixed) ? hi : lo) = mid;
+      }
+      t_oracle = hi;
+    }
+    if (t_oracle < 0) {
+      ++none;
+      continue;  // a contact the sampling stepped over is checked in the two-body test below
+    }
+    ++contacts;
+    ASSERT_TRUE(got.has_value()) << "trial " << trial << ": missed the contact at " << t_oracle;
+    EXPECT_LE(got->t, t_oracle + 1e-9) << "trial " << trial << ": late";
+    if (got->t < t_oracle - 1e-9) ++earlier; else worst = std::max(worst, std::abs(got->t - t_oracle));
+  }
+  EXPECT_GT(contacts, 300);
+  EXPECT_EQ(earlier, 0);
+  std::printf("contacts %d, no contact %d, earlier %d, worst time difference %.3g\n", contacts, none, earlier, worst);
+}
+
+TEST(CollideOracle, StillPartnerAgreesWithSampling) { randomScenes(false, 150, 31415926); }
+TEST(CollideOracle, BothMovingAgreesWithSampling) { randomScenes(true, 250, 27182818); }
 
 }  // namespace

@@ -1,7 +1,8 @@
 #pragma once
 /// @file
 /// Contact prediction between a triangle mesh moving along a Motion (SAM spans) and a static
-/// triangle mesh: the first contact, every contact event, or whether they ever touch.
+/// triangle mesh, or a second moving mesh: the first contact, every contact event, or whether
+/// they ever touch.
 ///
 /// Method. The static mesh goes into an Embree BVH once (StaticScene). For each query, every
 /// moving triangle gets, per span and per time slice of the span, a conservative box of its
@@ -45,30 +46,31 @@ struct CollideOptions {
   double contact_tolerance = 1e-9;
 };
 
-/// The feature pair of a contact.
+/// The feature pair of a contact. "a" is the query mesh (the one moving along the motion
+/// passed to the query, or the first of two moving meshes), "b" the scene mesh (or the second).
 enum class ContactType {
-  VertexFace,  ///< a moving vertex meets a static triangle
-  FaceVertex,  ///< a static vertex meets a moving triangle
-  EdgeEdge,    ///< a moving edge meets a static edge
+  VertexFace,  ///< a vertex of a meets a triangle of b
+  FaceVertex,  ///< a triangle of a meets a vertex of b
+  EdgeEdge,    ///< an edge of a meets an edge of b
 };
 
 /// Stable name ("vertex-face", "face-vertex", "edge-edge").
 const char* to_string(ContactType type) noexcept;
 
-/// One contact event between the moving and the static mesh.
+/// One contact event between two meshes.
 struct Contact {
   double t = 0.0;           ///< motion time (key time scale), never later than the true contact
-  std::size_t span = 0;     ///< index of the motion span
-  double span_time = 0.0;   ///< the span's own parameter s in [0, 1]
+  std::size_t span = 0;     ///< index of the span of a's motion
+  double span_time = 0.0;   ///< that span's own parameter s in [0, 1]
   ContactType type = ContactType::VertexFace;
-  /// Moving feature: the vertex index (VertexFace), the face index (FaceVertex), or the two
-  /// vertex indices of the edge (EdgeEdge; the second entry is -1 otherwise).
-  std::array<int, 2> moving{{-1, -1}};
-  /// Static feature, with the same conventions (face for VertexFace, vertex for FaceVertex).
-  std::array<int, 2> fixed{{-1, -1}};
+  /// Feature of mesh a: the vertex index (VertexFace), the face index (FaceVertex), or the two
+  /// vertex indices of the edge, smaller first (EdgeEdge; the second entry is -1 otherwise).
+  std::array<int, 2> a{{-1, -1}};
+  /// Feature of mesh b, with the same conventions (face for VertexFace, vertex for FaceVertex).
+  std::array<int, 2> b{{-1, -1}};
   Eigen::Vector3d point = Eigen::Vector3d::Zero();   ///< world contact point at time t
-  /// Unit world normal at the contact: the static face's (VertexFace), the moving face's at time
-  /// t (FaceVertex), or the edges' common normal (EdgeEdge, up to sign).
+  /// Unit world normal at the contact: b's face normal (VertexFace), a's face normal at time t
+  /// (FaceVertex), or the edges' common normal (EdgeEdge, up to sign).
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();
   /// +1 or -1 when the features cross, 0 for a touch (see ContactRoot::crossing).
   int crossing = 0;
@@ -121,5 +123,24 @@ class StaticScene {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// A mesh (vertices in body coordinates) moving along a motion, for two-body queries.
+struct MovingMesh {
+  const std::vector<Eigen::Vector3d>& vertices;    ///< body coordinates
+  const std::vector<std::array<int, 3>>& faces;    ///< vertex indices
+  const Motion3& motion;                           ///< body-to-world poses over time
+};
+
+/// The earliest contact of two meshes that both move, over the time range their motions share,
+/// or none. Between consecutive key times of either motion, each mesh follows one SAM span; the
+/// relative motion is not a SAM, and the contact functions of the composed motion are solved
+/// with the same guarantee (bounds from both spans' logs). `span`/`span_time` of the result refer
+/// to mesh a's motion. Throws like StaticScene for bad meshes, Error(InvalidArgument) when the
+/// motions share no time or for bad options.
+std::optional<Contact> firstContact(const MovingMesh& a, const MovingMesh& b, const CollideOptions& options = {},
+                                    CollideStats* stats = nullptr);
+/// Every contact event of two moving meshes, in time order (see firstContact(a, b)).
+std::vector<Contact> contacts(const MovingMesh& a, const MovingMesh& b, const CollideOptions& options = {},
+                              CollideStats* stats = nullptr);
 
 }  // namespace steady
