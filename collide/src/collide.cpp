@@ -136,12 +136,13 @@ void mergeEvents(std::vector<Contact>& out) {
   out = std::move(merged);
 }
 
-// Whether point x (world) lies on triangle (p, q, r) within tol plus its distance to the
-// triangle's plane (the root solve puts it on the plane up to rounding); sets the closest point.
+// Whether point x (world) lies on triangle (p, q, r) within tol (sets the closest point). The
+// root solve puts x on the plane up to rounding, about 1e-14 of the coordinates' magnitude; that
+// much is added to tol.
 bool onTriangle(const Vec& x, const Vec& p, const Vec& q, const Vec& r, double tol, Vec& cp) {
   cp = closestOnTriangle(x, p, q, r);
-  const Vec n = (q - p).cross(r - p).normalized();
-  return (x - cp).norm() <= tol + std::abs(n.dot(x - p));
+  const double slack = 1e-13 * (x.cwiseAbs().maxCoeff() + p.cwiseAbs().maxCoeff() + (q - p).norm() + (r - p).norm());
+  return (x - cp).norm() <= tol + slack;
 }
 
 struct PairHit {
@@ -172,6 +173,7 @@ struct SceneData {
   std::vector<Vec> normal;  // unit face normals
   std::vector<double> offset;  // normal . x = offset on the face's plane
   double diag = 0;
+  Vec lo, hi;  // bounding box
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
 
@@ -238,6 +240,11 @@ StaticScene::StaticScene(std::vector<Vec> vertices, Faces faces) : impl_(std::ma
     s.offset[f] = s.normal[f].dot(a);
   }
   s.diag = boxDiagonal(s.V);
+  s.lo = s.hi = s.V.front();
+  for (const Vec& p : s.V) {
+    s.lo = s.lo.cwiseMin(p);
+    s.hi = s.hi.cwiseMax(p);
+  }
   s.device = newDevice();
   s.scene = rtcNewScene(s.device);
   rtcSetSceneBuildQuality(s.scene, RTC_BUILD_QUALITY_HIGH);
@@ -261,9 +268,19 @@ struct SpanData {
   SpanRoots fwd;        // the span, for moving vertices and edges
   SpanRoots inv;        // its inverse, for static vertices against moving faces
   std::vector<Vec> W0;  // moving vertices at span time 0 (world)
-  // Per slice k and vertex: position at the slice middle and path-length radius.
-  std::vector<Vec> mid;
-  std::vector<double> rad;
+};
+
+// Broad-phase state of one time interval: swept boxes of the moving triangles that may meet the
+// static scene, as an Embree user geometry.
+struct IntervalBoxes {
+  std::vector<unsigned> faces;  // moving faces kept (their box meets the static scene's box)
+  std::vector<float> box;       // 6 floats per kept face
+  static void bounds(const RTCBoundsFunctionArguments* args) {
+    const auto* self = static_cast<const IntervalBoxes*>(args->geometryUserPtr);
+    const float* q = &self->box[6 * static_cast<std::size_t>(args->primID)];
+    RTCBounds* b = args->bounds_o;
+    b->lower_x = q[0], b->lower_y = q[1], b->lower_z = q[2], b->upper_x = q[3], b->upper_y = q[4], b->upper_z = q[5];
+  }
 };
 
 struct Query {
@@ -273,13 +290,14 @@ struct Query {
   const Motion3& motion;
   const CollideOptions& o;
   std::vector<SpanData> spans;
-  int K;
   double tol;  // contact distance
   CollideStats stats;
+  std::vector<Vec> mid;      // per vertex: position at the middle of the current interval
+  std::vector<double> rad;   // and its path-length radius
 
   Query(const SceneData& s, const std::vector<Vec>& verts, const Faces& faces, const Motion3& m,
         const CollideOptions& opt)
-      : st(s), V(verts), F(faces), motion(m), o(opt), K(opt.slices) {
+      : st(s), V(verts), F(faces), motion(m), o(opt) {
     if (o.slices < 1 || o.slices > 128)
       throw Error(ErrorCode::InvalidArgument, "CollideOptions::slices must be in 1..128, got " + std::to_string(o.slices));
     if (!(o.contact_tolerance >= 0) || !std::isfinite(o.contact_tolerance))
@@ -291,72 +309,62 @@ struct Query {
     for (std::size_t i = 0; i < motion.spanCount(); ++i) {
       const Span3& sp = motion.span(i);
       SpanData d{&sp, motion.spanBegin(i), motion.spanEnd(i), SpanRoots(sp, o.roots),
-                 SpanRoots(Span3(sp.relative().inverse()), o.roots), {}, {}, {}};
+                 SpanRoots(Span3(sp.relative().inverse()), o.roots), {}};
       d.W0.resize(nv);
       for (std::size_t v = 0; v < nv; ++v) d.W0[v] = sp.start().applyPoint(V[v]);
-      d.mid.resize(nv * static_cast<std::size_t>(K));
-      d.rad.resize(nv * static_cast<std::size_t>(K));
-      const double r = 0.5 / K, grow = r * detail::phi1(r * d.fwd.logNorm()) * detail::kBoundSlack;
-      for (int k = 0; k < K; ++k) {
-        const Affine3 P = d.fwd.power((k + 0.5) / K);
-        for (std::size_t v = 0; v < nv; ++v) {
-          const Vec x = P.applyPoint(d.W0[v]);
-          const std::size_t idx = static_cast<std::size_t>(k) * nv + v;
-          d.mid[idx] = x;
-          // Path-length bound plus a rounding margin for x itself.
-          d.rad[idx] = sp.velocity(x).norm() * grow + 1e-14 * (x.norm() + d.W0[v].norm());
-        }
-      }
       spans.push_back(std::move(d));
     }
+    mid.resize(nv);
+    rad.resize(nv);
   }
 
-  std::size_t sliceCount() const { return spans.size() * static_cast<std::size_t>(K); }
-  // Moving primitive id = slice * faces + face, slice = span * K + k.
-  static void movingBounds(const RTCBoundsFunctionArguments* args) {
-    const auto* q = static_cast<const Query*>(args->geometryUserPtr);
-    const std::size_t nf = q->F.size(), nv = q->V.size();
-    const std::size_t slice = args->primID / nf, f = args->primID % nf;
-    const SpanData& d = q->spans[slice / static_cast<std::size_t>(q->K)];
-    const std::size_t k = slice % static_cast<std::size_t>(q->K);
-    Vec lo = Vec::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-    for (int c = 0; c < 3; ++c) {
-      const std::size_t idx = k * nv + static_cast<std::size_t>(q->F[f][c]);
-      lo = lo.cwiseMin(d.mid[idx] - Vec::Constant(d.rad[idx]));
-      hi = hi.cwiseMax(d.mid[idx] + Vec::Constant(d.rad[idx]));
+  // Swept boxes of the moving faces over span time [a, b] of span d, keeping the faces whose box
+  // meets the static scene's bounding box.
+  void sweptBoxes(const SpanData& d, double a, double b, IntervalBoxes& out) {
+    const double r = 0.5 * (b - a), grow = r * detail::phi1(r * d.fwd.logNorm()) * detail::kBoundSlack;
+    const Affine3 P = d.fwd.power(0.5 * (a + b));
+    for (std::size_t v = 0; v < V.size(); ++v) {
+      mid[v] = P.applyPoint(d.W0[v]);
+      // Path-length bound plus a rounding margin for the position itself.
+      rad[v] = d.span->velocity(mid[v]).norm() * grow + 1e-14 * (mid[v].norm() + d.W0[v].norm());
     }
-    storeBounds(args->bounds_o, lo, hi);
+    out.faces.clear();
+    out.box.clear();
+    for (std::size_t f = 0; f < F.size(); ++f) {
+      Vec lo = Vec::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+      for (int c = 0; c < 3; ++c) {
+        const int vi = F[f][c];
+        lo = lo.cwiseMin(mid[vi] - Vec::Constant(rad[vi]));
+        hi = hi.cwiseMax(mid[vi] + Vec::Constant(rad[vi]));
+      }
+      if ((lo.array() > st.hi.array()).any() || (hi.array() < st.lo.array()).any()) continue;
+      RTCBounds bb;
+      storeBounds(&bb, lo, hi);
+      out.faces.push_back(static_cast<unsigned>(f));
+      out.box.insert(out.box.end(), {bb.lower_x, bb.lower_y, bb.lower_z, bb.upper_x, bb.upper_y, bb.upper_z});
+    }
   }
 
-  std::vector<PairHit> broadPhase() {
+  // Candidate pairs (index into out.faces, static face) of the interval.
+  std::vector<PairHit> collide(IntervalBoxes& boxes) {
     const auto start = Clock::now();
-    const std::size_t total = sliceCount() * F.size();
-    if (total > std::numeric_limits<unsigned>::max())
-      throw Error(ErrorCode::InvalidArgument, "too many moving primitives for one query (faces x spans x slices > 2^32); "
-                                              "lower CollideOptions::slices or split the motion");
-    RTCScene scene = rtcNewScene(st.device);
     PairSink sink;
-    try {
-      addUserGeometry(st.device, scene, static_cast<unsigned>(total), &Query::movingBounds, this);
+    if (!boxes.faces.empty()) {
+      RTCScene scene = rtcNewScene(st.device);
+      rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_LOW);
+      addUserGeometry(st.device, scene, static_cast<unsigned>(boxes.faces.size()), &IntervalBoxes::bounds, &boxes);
       rtcCollide(scene, st.scene, &collectPairs, &sink);
-    } catch (...) {
       rtcReleaseScene(scene);
-      throw;
     }
-    rtcReleaseScene(scene);
-    stats.candidate_pairs = sink.pairs.size();
-    // Time order of slices; within a slice any order.
-    std::sort(sink.pairs.begin(), sink.pairs.end(), [&](const PairHit& a, const PairHit& b) {
-      return a.moving / F.size() < b.moving / F.size();
-    });
+    stats.candidate_pairs += sink.pairs.size();
     stats.broad_seconds += seconds(start, Clock::now());
     return std::move(sink.pairs);
   }
 
   double globalTime(const SpanData& d, double s) const { return d.t0 + s * (d.t1 - d.t0); }
 
-  // Solves one candidate pair on slice [a, b] of span d; calls emit(contact) for every feature
-  // contact found with span time <= limit.
+  // Solves one candidate pair on [a, b] of span d; calls emit(contact) for every feature contact
+  // found with span time <= limit.
   template <class Emit>
   void solvePair(std::size_t span_index, const SpanData& d, double a, double b, std::size_t f, std::size_t g,
                  double limit, Emit&& emit) {
@@ -383,8 +391,8 @@ struct Query {
       d.fwd.pointPlane(d.W0[mf[k]], st.normal[g], st.offset[g], a, hi, roots);
       for (const ContactRoot& r : roots) {
         const Vec x = d.fwd.power(r.t).applyPoint(d.W0[mf[k]]);
-        const Vec cp = closestOnTriangle(x, st.V[sf[0]], st.V[sf[1]], st.V[sf[2]]);
-        if ((x - cp).norm() > tol + std::abs(st.normal[g].dot(x) - st.offset[g])) continue;
+        Vec cp;
+        if (!onTriangle(x, st.V[sf[0]], st.V[sf[1]], st.V[sf[2]], tol, cp) && r.certain) continue;
         Contact c = make(ContactType::VertexFace, r);
         c.a = {mf[k], -1};
         c.b = {static_cast<int>(g), -1};
@@ -403,15 +411,13 @@ struct Query {
       for (const ContactRoot& r : roots) {
         const Affine3 Pt = d.fwd.power(r.t);
         const Vec X0 = Pt.applyPoint(d.W0[mf[0]]), X1 = Pt.applyPoint(d.W0[mf[1]]), X2 = Pt.applyPoint(d.W0[mf[2]]);
-        const Vec& q = st.V[sf[k]];
-        const Vec cp = closestOnTriangle(q, X0, X1, X2);
-        const Vec nt = (X1 - X0).cross(X2 - X0).normalized();
-        if ((q - cp).norm() > tol + std::abs(nt.dot(q - X0))) continue;
+        Vec cp;
+        if (!onTriangle(st.V[sf[k]], X0, X1, X2, tol, cp) && r.certain) continue;
         Contact c = make(ContactType::FaceVertex, r);
         c.a = {static_cast<int>(f), -1};
         c.b = {sf[k], -1};
         c.point = st.V[sf[k]];
-        c.normal = nt;
+        c.normal = (X1 - X0).cross(X2 - X0).normalized();
         emit(c);
       }
     }
@@ -427,7 +433,8 @@ struct Query {
           const Affine3 Pt = d.fwd.power(r.t);
           const Vec x0 = Pt.applyPoint(d.W0[ma]), x1 = Pt.applyPoint(d.W0[mb]);
           Vec cp, cq;
-          if (segmentDistance(x0, x1, st.V[sa], st.V[sb], cp, cq) > tol) continue;
+          if (segmentDistance(x0, x1, st.V[sa], st.V[sb], cp, cq) > tol + 1e-13 * (x0.cwiseAbs().maxCoeff() + (x1 - x0).norm() + st.V[sa].cwiseAbs().maxCoeff() + (st.V[sb] - st.V[sa]).norm()) && r.certain)
+            continue;
           Contact c = make(ContactType::EdgeEdge, r);
           c.a = {std::min(ma, mb), std::max(ma, mb)};
           c.b = {std::min(sa, sb), std::max(sa, sb)};
@@ -441,37 +448,72 @@ struct Query {
   }
 
   enum class Mode { First, All, Any };
-  // Runs the narrow phase over the time-ordered pairs. First: stops when no slice can hold a
-  // contact earlier than the best found; Any: stops at the first contact found.
-  std::vector<Contact> run(Mode mode) {
-    const bool first_only = mode != Mode::All;
-    std::vector<PairHit> pairs = broadPhase();
-    const auto start = Clock::now();
-    std::vector<Contact> out;
+
+  struct Search {
+    Mode mode;
     std::optional<Contact> best;
-    bool any_found = false;
-    const std::size_t nf = F.size();
+    std::vector<Contact> out;
+    bool done = false;
+  };
+
+  // Halving of an interval stops at this depth below the options' slices (2^10 more).
+  static constexpr int kMaxDepth = 10;
+  // An interval is halved when its candidate pairs exceed this many per kept moving face: its
+  // swept boxes are then much larger than the triangles, and halving shrinks them.
+  static constexpr double kSplitRatio = 4.0;
+
+  // Processes span time [a, b] of span i in time order: broad phase, then either halves (too
+  // many candidates) or solves the pairs.
+  void interval(std::size_t i, double a, double b, int depth, Search& S) {
+    const SpanData& d = spans[i];
+    if (S.done) return;
+    if (S.mode != Mode::All && S.best && globalTime(d, a) > S.best->t) {
+      S.done = true;
+      return;
+    }
+    IntervalBoxes boxes;
+    const auto t_start = Clock::now();
+    sweptBoxes(d, a, b, boxes);
+    stats.broad_seconds += seconds(t_start, Clock::now());
+    if (boxes.faces.empty()) return;
+    std::vector<PairHit> pairs = collide(boxes);
+    if (pairs.empty()) return;
+    if (depth < kMaxDepth && static_cast<double>(pairs.size()) > kSplitRatio * static_cast<double>(boxes.faces.size())) {
+      stats.candidate_pairs -= pairs.size();  // superseded by the halves' pairs
+      const double m = 0.5 * (a + b);
+      interval(i, a, m, depth + 1, S);
+      interval(i, m, b, depth + 1, S);
+      return;
+    }
+    const auto n_start = Clock::now();
     for (const PairHit& p : pairs) {
-      if (any_found) break;
-      const std::size_t slice = p.moving / nf, f = p.moving % nf;
-      const std::size_t si = slice / static_cast<std::size_t>(K), k = slice % static_cast<std::size_t>(K);
-      const SpanData& d = spans[si];
-      const double a = static_cast<double>(k) / K, b = static_cast<double>(k + 1) / K;
-      if (first_only && best && (si > best->span || (si == best->span && a > best->span_time))) break;
-      const double limit = first_only && best && si == best->span ? best->span_time : b;
-      solvePair(si, d, a, b, f, p.fixed, limit, [&](const Contact& c) {
-        if (mode == Mode::Any) any_found = true;
-        if (first_only) {
-          if (!best || c.t < best->t) best = c;
-        } else {
-          out.push_back(c);
+      const double limit = S.mode != Mode::All && S.best && S.best->span == i ? S.best->span_time : b;
+      solvePair(i, d, a, b, boxes.faces[p.moving], p.fixed, limit, [&](const Contact& c) {
+        if (S.mode == Mode::All) {
+          S.out.push_back(c);
+        } else if (!S.best || c.t < S.best->t) {
+          S.best = c;
         }
       });
+      if (S.mode == Mode::Any && S.best) {
+        S.done = true;
+        break;
+      }
     }
-    if (first_only && best) out.push_back(*best);
-    if (!first_only) mergeEvents(out);
-    stats.narrow_seconds += seconds(start, Clock::now());
-    return out;
+    stats.narrow_seconds += seconds(n_start, Clock::now());
+  }
+
+  std::vector<Contact> run(Mode mode) {
+    Search S{mode, std::nullopt, {}, false};
+    for (std::size_t i = 0; i < spans.size() && !S.done; ++i)
+      for (int k = 0; k < o.slices && !S.done; ++k)
+        interval(i, static_cast<double>(k) / o.slices, static_cast<double>(k + 1) / o.slices, 0, S);
+    if (mode != Mode::All) {
+      if (S.best) S.out.push_back(*S.best);
+    } else {
+      mergeEvents(S.out);
+    }
+    return S.out;
   }
 };
 
@@ -692,7 +734,8 @@ struct TwoQuery {
           const Affine3 Pv = rel.poseA(r.t), Pf = rel.poseB(r.t);
           const Vec x = Pv.applyPoint(Wv[fv[k]]);
           Vec cp;
-          if (!onTriangle(x, Pf.applyPoint(Wf[ff[0]]), Pf.applyPoint(Wf[ff[1]]), Pf.applyPoint(Wf[ff[2]]), tol, cp)) continue;
+          if (!onTriangle(x, Pf.applyPoint(Wf[ff[0]]), Pf.applyPoint(Wf[ff[1]]), Pf.applyPoint(Wf[ff[2]]), tol, cp) && r.certain)
+            continue;
           Contact c = make(side == 0 ? ContactType::VertexFace : ContactType::FaceVertex, r);
           c.a = side == 0 ? std::array<int, 2>{fv[k], -1} : std::array<int, 2>{static_cast<int>(f), -1};
           c.b = side == 0 ? std::array<int, 2>{static_cast<int>(g), -1} : std::array<int, 2>{fv[k], -1};
@@ -716,7 +759,8 @@ struct TwoQuery {
           const Vec x0 = PA.applyPoint(WA[a0]), x1 = PA.applyPoint(WA[a1]);
           const Vec y0 = PB.applyPoint(WB[b0]), y1 = PB.applyPoint(WB[b1]);
           Vec cp, cq;
-          if (segmentDistance(x0, x1, y0, y1, cp, cq) > tol) continue;
+          if (segmentDistance(x0, x1, y0, y1, cp, cq) > tol + 1e-13 * (x0.cwiseAbs().maxCoeff() + (x1 - x0).norm() + y0.cwiseAbs().maxCoeff() + (y1 - y0).norm()) && r.certain)
+            continue;
           Contact c = make(ContactType::EdgeEdge, r);
           c.a = {std::min(a0, a1), std::max(a0, a1)};
           c.b = {std::min(b0, b1), std::max(b0, b1)};

@@ -73,11 +73,13 @@ struct RelEdgeFn {
   using Vector = Eigen::Vector3d;
   struct Sample {
     double g, gp, eps, epsd;
-    double beta, ea, va, dv, w;  // |L_b^-1|_F, |ea|, |Va(xa)|, |dV(xa)|, |b0 - z0|
+    double beta, ea, va, dv, w, nn;  // |L_b^-1|_F, |ea|, |Va(xa)|, |dV(xa)|, |b0 - z0|, |ez x d|
+    double maea, dmea, cea;          // |Ma ea|, |dM ea|, |C ea| with C = dM Ma - Mb dM
   };
   const RelativeRoots& R;
   Vector a0, ea0, b0, d;
-  double a0n, ea0n, dn, c1, ulps;  // c1 = |dM Ma - Mb dM|_F
+  Eigen::Matrix3d C;  // dM Ma - Mb dM
+  double a0n, ea0n, dn, c1, ulps;  // c1 = |C|_F
 
   Sample sample(double tau) const {
     const Affine3 PA = R.poseA(tau), PB = R.poseB(tau);
@@ -96,6 +98,10 @@ struct RelEdgeFn {
     s.va = va.norm();
     s.dv = dv.norm();
     s.w = w.norm();
+    s.nn = n.norm();
+    s.maea = (R.Ma_ * ea).norm();
+    s.dmea = (R.dM_ * ea).norm();
+    s.cea = (C * ea).norm();
     const double xs = xa.norm() + PA.linear().norm() * a0n + PA.translation().norm();
     const double zs = z0.norm() + s.beta * (xs + PB.translation().norm());
     const double es = ez.norm() + s.beta * (s.ea + PA.linear().norm() * ea0n);
@@ -105,14 +111,20 @@ struct RelEdgeFn {
               es * (dz.norm() + s.beta * (R.dMn_ * xs + R.ua_.norm() + R.ub_.norm())));
     return s;
   }
+  // Every factor is bounded from its value at c: |L_b^-1(tau)| <= |L_b^-1(c)| e^(r mu_b); a
+  // matrix X applied to ea(tau) moves by at most |X| |Ma ea_c| r phi1(r mu_a) (ea' = Ma ea), which
+  // keeps the bound zero for edges that stay parallel or move with b.
   Bounds bounds(const Sample& c, double r) const {
     const double za = r * R.mua_, zb = r * R.mub_, GA = std::exp(za), GB = std::exp(zb);
-    const double bt = c.beta * GB;                                // |L_b^-1| over the interval
-    const double DV = c.dv + R.dMn_ * c.va * r * phi1(za);        // |dV(xa)|
-    const double W = c.w + r * bt * DV;                           // |b0 - z0|
-    const double E = GA * c.ea;                                   // |ea|
-    const double K = kBoundSlack * dn *
-                     (bt * c1 * E * W + 2 * bt * R.dMn_ * E * bt * DV + bt * E * bt * (R.dMn_ * GA * c.va + R.mub_ * DV));
+    const double bt = c.beta * GB;                           // |L_b^-1| over the interval
+    const double DV = c.dv + R.dMn_ * c.va * r * phi1(za);   // |dV(xa)|
+    const double W = c.w + r * bt * DV;                      // |b0 - z0|
+    const double step = c.maea * r * phi1(za);               // |ea(tau) - ea_c|
+    const double DE = c.dmea + R.dMn_ * step;                // |dM ea|
+    const double CE = c.cea + c1 * step;                     // |C ea|
+    const double N = c.nn + dn * r * bt * DE;                // |ez x d|
+    const double K = kBoundSlack * (dn * (bt * CE * W + 2 * bt * DE * bt * DV) +
+                                    N * bt * (R.dMn_ * GA * c.va + R.mub_ * DV));
     Bounds b;
     b.D = K * r;
     b.reach = std::abs(c.gp) * r + 0.5 * K * r * r;
@@ -133,8 +145,8 @@ std::size_t RelativeRoots::pointPlane(const Vector& p, const Vector& n, double h
 std::size_t RelativeRoots::edgeEdge(const Vector& a0, const Vector& a1, const Vector& b0, const Vector& b1,
                                     double t0, double t1, std::vector<ContactRoot>& out) const {
   const Vector ea0 = a1 - a0, d = b1 - b0;
-  const double c1 = (dM_ * Ma_ - Mb_ * dM_).norm();
-  const RelEdgeFn f{*this, a0, ea0, b0, d, a0.norm(), ea0.norm(), d.norm(), c1, options_.value_ulps * kUlp};
+  const Eigen::Matrix3d C = dM_ * Ma_ - Mb_ * dM_;
+  const RelEdgeFn f{*this, a0, ea0, b0, d, C, a0.norm(), ea0.norm(), d.norm(), C.norm(), options_.value_ulps * kUlp};
   const std::size_t before = out.size();
   isolateRoots(f, t0, t1, options_, [&](const ContactRoot& r) {
     return appendMerged(out, before, r, options_.time_tolerance);

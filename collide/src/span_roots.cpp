@@ -68,7 +68,7 @@ struct EdgeEdgeFn {
   using Vector = Eigen::Vector3d;
   struct Sample {
     double g, gp, eps, epsd;
-    double en, men, mmen, vn, mvn, wn;  // |e|, |M e|, |M^2 e|, |v|, |M v|, |q0 - x|
+    double en, men, mmen, vn, mvn, wn, nn;  // |e|, |M e|, |M^2 e|, |v|, |M v|, |q0 - x|, |e x d|
   };
   const SpanRoots& sr;
   const Eigen::Matrix3d& M;
@@ -95,6 +95,7 @@ struct EdgeEdgeFn {
     r.vn = v.norm();
     r.mvn = mv.norm();
     r.wn = w.norm();
+    r.nn = n.norm();
     const double xs = x.norm() + p0n * ln + tn;  // magnitude behind the rounding of x
     const double es = r.en + ln * e0n;            // and of e
     r.eps = ulps * dn * es * (r.wn + xs + q0.norm());
@@ -102,11 +103,13 @@ struct EdgeEdgeFn {
     return r;
   }
   // g'' = (M^2 e x d).w - 2 (M e x d).v - (e x d).(M v), every factor moving by at most
-  // e^(|s-c| mu) from its value at c (M commutes with L^s), and |w(s)| <= |w_c| + path length.
+  // e^(|s-c| mu) from its value at c (M commutes with L^s), |w(s)| <= |w_c| + path length, and
+  // |e(s) x d| <= |e_c x d| + |d| |M e_c| r phi1(r mu) (so edges that stay parallel give 0).
   Bounds bounds(const Sample& c, double r) const {
     const double z = r * mu, grow = std::exp(z);
     const double W = c.wn + c.vn * r * phi1(z);
-    const double K = kBoundSlack * dn * (grow * c.mmen * W + grow * grow * (2 * c.men * c.vn + c.en * c.mvn));
+    const double N = c.nn + dn * c.men * r * phi1(z);
+    const double K = kBoundSlack * (dn * (grow * c.mmen * W + 2 * grow * grow * c.men * c.vn) + N * grow * c.mvn);
     Bounds b;
     b.D = K * r;
     b.reach = std::abs(c.gp) * r + 0.5 * K * r * r;

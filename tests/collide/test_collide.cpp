@@ -75,6 +75,7 @@ TEST(Collide, CubeOnSlabFirstContact) {
     EXPECT_LE(c->t, cubeFirstContact(theta) + 1e-12);  // never late
     EXPECT_NEAR(c->point.z(), -1.2, 1e-9);
     EXPECT_NEAR(std::abs(c->normal.z()), 1.0, 1e-12);
+    EXPECT_TRUE(c->certain);
     EXPECT_GT(stats.candidate_pairs, 0u);
     EXPECT_TRUE(scene.touches(cube.v, cube.f, motion));
   }
@@ -179,6 +180,7 @@ TEST(CollideTwoMoving, StaticPartnerGivesTheStaticAnswer) {
   const auto c = steady::firstContact({cube.v, cube.f, motion}, {slab.v, slab.f, still});
   ASSERT_TRUE(c.has_value());
   EXPECT_NEAR(c->t, cubeFirstContact(1.0), 1e-11);
+  EXPECT_TRUE(c->certain);
 }
 
 TEST(CollideTwoMoving, HeadOnTranslations) {
@@ -325,6 +327,7 @@ void randomScenes(bool both_moving, int trials, std::uint64_t seed) {
     ++contacts;
     ASSERT_TRUE(got.has_value()) << "trial " << trial << ": missed the contact at " << t_oracle;
     EXPECT_LE(got->t, t_oracle + 1e-9) << "trial " << trial << ": late";
+    EXPECT_TRUE(got->certain) << "trial " << trial;
     if (got->t < t_oracle - 1e-9) {
       ++earlier;
       EXPECT_TRUE(realContact(*got)) << "trial " << trial << ": contact at " << got->t << " before the oracle's "
