@@ -294,6 +294,8 @@ struct Query {
   CollideStats stats;
   std::vector<Vec> mid;      // per vertex: position at the middle of the current interval
   std::vector<double> rad;   // and its path-length radius
+  Vec center;                // centre of the moving mesh's bounding ball (body coordinates)
+  double radius = 0;         // and its radius
 
   Query(const SceneData& s, const std::vector<Vec>& verts, const Faces& faces, const Motion3& m,
         const CollideOptions& opt)
@@ -316,6 +318,25 @@ struct Query {
     }
     mid.resize(nv);
     rad.resize(nv);
+    Vec lo = V.front(), hi = V.front();
+    for (const Vec& p : V) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+    center = 0.5 * (lo + hi);
+    for (const Vec& p : V) radius = std::max(radius, (p - center).norm());
+  }
+
+  // Whether the whole moving mesh may meet the static scene's box over span time [a, b]: its
+  // bounding ball's centre moves within its path length of the middle position, and the ball's
+  // image under L^s has radius at most radius |L^s| <= radius |L^mid|_F e^(r |M|).
+  bool mayReachScene(const SpanData& d, double a, double b) const {
+    const double r = 0.5 * (b - a), z = r * d.fwd.logNorm();
+    const Affine3 P = d.fwd.power(0.5 * (a + b)) * d.span->start();
+    const Vec c = P.applyPoint(center);
+    const double reach = (radius * P.linear().norm() * std::exp(z) + d.span->velocity(c).norm() * r * detail::phi1(z)) *
+                             detail::kBoundSlack + 1e-12 * (c.norm() + radius);
+    return !((c.array() - reach > st.hi.array()).any() || (c.array() + reach < st.lo.array()).any());
   }
 
   // Swept boxes of the moving faces over span time [a, b] of span d, keeping the faces whose box
@@ -473,6 +494,10 @@ struct Query {
     }
     IntervalBoxes boxes;
     const auto t_start = Clock::now();
+    if (!mayReachScene(d, a, b)) {
+      stats.broad_seconds += seconds(t_start, Clock::now());
+      return;
+    }
     sweptBoxes(d, a, b, boxes);
     stats.broad_seconds += seconds(t_start, Clock::now());
     if (boxes.faces.empty()) return;
