@@ -88,7 +88,8 @@ class Motion {
   using Vector = typename Affine<D>::Vector;
 
   /// The polySAM through `keys` (at least 2, times strictly increasing and finite). Throws
-  /// Error(InvalidArgument) for bad times, Error(NonFinite) / Error(NotOrientationPreserving)
+  /// Error(InvalidArgument) for times that do not increase, Error(NonFinite) for a non-finite
+  /// time, Error(NonFinite) / Error(NotOrientationPreserving)
   /// / Error(Singular) for a bad pose (naming it), and, with NoSamPolicy::Fail, the reason a
   /// span has no SAM, naming the span ("span 2 (key 2 -> 3)").
   static Motion polySam(const std::vector<Keyframe<D>>& keys, const MotionOptions& options = {});
@@ -112,8 +113,8 @@ class Motion {
   double beginTime() const { return times_.front(); }
   /// Last key time.
   double endTime() const { return times_.back(); }
-  /// The span that holds time t (times outside the key range go to the first or last span,
-  /// which then extrapolates its SAM).
+  /// The span that holds time t: at an interior key time, the span that starts there; times
+  /// outside the key range go to the first or last span, which then extrapolates its SAM.
   std::size_t spanIndex(double t) const;
   /// The pose at time t.
   Affine<D> pose(double t) const;
@@ -217,7 +218,7 @@ class SamPatch {
   static SamPatch corners(const Affine<D>& A, const Affine<D>& B, const Affine<D>& C,
                           const Affine<D>& D4, const EarOptions& options = {});
   /// The regular patch: D = B A^-1 C, so that `pose(s, u) = M^s N^u A` with `M = B A^-1`,
-  /// `N = C A^-1` whenever M and N commute (and rows/columns are SAMs in any case).
+  /// `N = C A^-1` (for any M and N: the row at s runs from M^s A to M^s C).
   static SamPatch regular(const Affine<D>& A, const Affine<D>& B, const Affine<D>& C,
                           const EarOptions& options = {});
   /// The pose at (s, u).
@@ -245,8 +246,9 @@ template <int D>
 Affine<D> polarInterpolate(const Affine<D>& B, const Affine<D>& C, double t,
                            const EarOptions& options = {});
 
-/// `exp([M | u])`, the affinity whose homogeneous log is X (scaling and squaring with a Padé
-/// approximant; relative error about 1e-15 for |X| up to 1e3).
+/// `exp([M | u])`, the affinity whose homogeneous log is X (Eigen's scaling and squaring with a
+/// Padé approximant: a few ulps for |X| of order 1; the error grows about linearly with |X|,
+/// e.g. a rotation by an angle a is accurate to about a * 1e-16).
 template <int D>
 Affine<D> exp(const AffineLog<D>& X);
 
@@ -270,7 +272,10 @@ Affine<D> lerp(const Affine<D>& B, const Affine<D>& C, double t);
 
 /// Sampling of the ARA measure.
 struct AraOptions {
-  int time_samples = 64;   ///< midpoints of this many equal sub-intervals of [t0, t1]
+  /// Sample times: the midpoints of this many equal sub-intervals of [t0 + 9h T, t1 - 9h T]
+  /// (T = t1 - t0, h = step), inset so that no difference stencil leaves [t0, t1] (curves may
+  /// be clamped or undefined outside it).
+  int time_samples = 64;
   int space_samples = 4;   ///< a grid of this many points per axis over the region (corners included)
   /// Central-difference step, relative to the duration t1 - t0: `W(t) = A(t)^-1 A'(t)` uses
   /// step h, and `W'(t)` uses step 8h.
@@ -281,8 +286,8 @@ struct AraOptions {
 /// sample times and the grid points p, of `|W'(t) [p; 1]|` where `W(t) = A(t)^-1 A'(t)` is the
 /// body-frame velocity (so `W(t)[p;1] = L(t)^-1 d/dt A_t(p)`), divided by the region's
 /// diagonal. Zero up to rounding for a SAM, for which W is constant (about 1e-11 for a unit
-/// region and motions of unit size); positive for unsteady motions (linear interpolation of
-/// Rot 90 deg and Translate(6, 0) over the unit square: about 4.8; Alexa's blend: 0.85). Time is normalised to [0, 1] so the value does not depend on t1 - t0.
+/// region and motions of unit size); positive for unsteady motions (from Rot 90 deg to
+/// Translate(6, 0) over the square [-1, 1]^2: linear interpolation 4.8, Alexa's blend 0.85). Time is normalised to [0, 1] so the value does not depend on t1 - t0.
 /// Derivatives are central differences (see AraOptions).
 template <int D>
 double ara(const std::function<Affine<D>(double)>& motion, double t0, double t1,
