@@ -1,14 +1,22 @@
-// pow, sam and demo: read the arguments, call the EAR, build the JSON answer.
+// pow, sam, demo, motion sample and pattern: read the arguments, call the library, build the
+// JSON answer.
 
 #include "commands.hpp"
 
 #include "affinity_io.hpp"
 
+#include <steady/core/motion.hpp>
+#include <steady/io/mesh.hpp>
+#include <steady/io/motion_file.hpp>
+
 #include <Eigen/Dense>
 
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <iostream>
+#include <iterator>
 #include <system_error>
 #include <vector>
 
@@ -198,6 +206,56 @@ std::string describe(const steady::AffineLog3& lg, int steps) {
   return s;
 }
 
+// --- motion files ------------------------------------------------------------------------------
+
+std::string trimmed(const std::string& s) {
+  const char* blanks = " \t\r\n\f\v";
+  const auto b = s.find_first_not_of(blanks);
+  if (b == std::string::npos) return {};
+  return s.substr(b, s.find_last_not_of(blanks) - b + 1);
+}
+
+struct LoadedMotion {
+  steady::io::MotionFile file;
+  std::string source;  // as named in messages
+};
+
+// A --motion argument: a path, "-" (standard input), "@path" / "@-" like an affinity argument,
+// or inline JSON starting with '{'.
+LoadedMotion loadMotion(const std::string& argument) {
+  std::string text = trimmed(argument);
+  if (text.empty()) throw UsageError("usage", "--motion: empty; give a motion file (JSON, see io/README.md)");
+  if (text[0] == '{') return {steady::io::parseMotion(text, "--motion (inline JSON)"), "inline JSON"};
+  if (text[0] == '@') text = text.substr(1);
+  if (text.empty()) throw UsageError("usage", "--motion: missing file name after '@'");
+  if (text == "-") {
+    const std::string input((std::istreambuf_iterator<char>(std::cin)), std::istreambuf_iterator<char>());
+    if (std::cin.bad()) throw steady::Error(steady::ErrorCode::Io, "--motion: cannot read standard input");
+    return {steady::io::parseMotion(input, "<stdin>"), "standard input"};
+  }
+  return {steady::io::readMotionFile(text), text};
+}
+
+// The motion of a file, with the file named in math errors.
+steady::KeyframeMotion3 buildMotion(const LoadedMotion& m) {
+  return withContext("the motion of " + m.source + ": ", [&] { return m.file.motion(); });
+}
+
+// n times from the first to the last key time, both included (n = 1: the first).
+std::vector<double> sampleTimes(const steady::KeyframeMotion3& motion, int n) {
+  const double t0 = motion.beginTime(), t1 = motion.endTime();
+  std::vector<double> times(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) times[static_cast<std::size_t>(i)] = n == 1 ? t0 : t0 + (t1 - t0) * i / (n - 1);
+  if (n > 1) times.back() = t1;
+  return times;
+}
+
+steady::Affine3 poseAt(const steady::KeyframeMotion3& motion, double t) {
+  const steady::Affine3 p = withContext("the pose at t = " + num(t) + ": ", [&] { return motion.pose(t); });
+  requireFinite(p, "the pose at t = " + num(t));
+  return p;
+}
+
 }  // namespace
 
 std::string powCommand(const std::string& affinity, double t, int dim, const steady::EarOptions& options) {
@@ -221,6 +279,64 @@ DemoOutput demoCommand(const std::string& data_dir, int steps) {
   out.summary = "steady demo: " + std::to_string(steps) + " steps (" + std::to_string(steps + 1) +
                 " poses) from " + from + " to " + to + ": " + describe(lg, steps);
   return out;
+}
+
+std::string motionSampleCommand(const std::string& motion, int count) {
+  if (count < 2) throw UsageError("usage", "--count: at least 2 poses (the first and the last key time)");
+  const LoadedMotion loaded = loadMotion(motion);
+  const steady::KeyframeMotion3 m = buildMotion(loaded);
+  Json poses = Json::array();
+  for (const double t : sampleTimes(m, count)) {
+    Json item = Json::object();
+    item["t"] = outputNumber(t);
+    item["pose"] = matrixJson(poseAt(m, t));
+    poses.push_back(std::move(item));
+  }
+  Json out = Json::object();
+  out["interpolation"] = steady::to_string(m.interpolation());
+  out["poses"] = std::move(poses);
+  return formatJson(out);
+}
+
+std::string patternCommand(const std::string& motion, int copies, const std::string& mesh,
+                           const std::string& output, bool binary) {
+  if (copies < 1) throw UsageError("usage", "--copies: at least 1");
+  // Everything about the output that can be wrong is reported before any work.
+  steady::io::MeshFormat format{};
+  try {
+    format = steady::io::meshFormatOf(output);
+  } catch (const steady::Error& e) {
+    throw UsageError("usage", std::string("--output: ") + e.what());
+  }
+  if (binary && format != steady::io::MeshFormat::Ply && format != steady::io::MeshFormat::Stl)
+    throw UsageError("usage", "--binary: binary output is available for .ply and .stl only, not for '" + output + "'");
+
+  const LoadedMotion loaded = loadMotion(motion);
+  const steady::io::TriangleMesh body = steady::io::readMesh(mesh);
+  const steady::KeyframeMotion3 m = buildMotion(loaded);
+  if (body.vertices.size() > static_cast<std::size_t>(INT_MAX) / static_cast<std::size_t>(copies))
+    throw UsageError("usage", "--copies: " + std::to_string(copies) + " copies of " + std::to_string(body.vertices.size()) +
+                                  " vertices exceed the " + std::to_string(INT_MAX) + " vertices a mesh can index");
+
+  steady::io::TriangleMesh out;
+  out.vertices.reserve(body.vertices.size() * static_cast<std::size_t>(copies));
+  out.faces.reserve(body.faces.size() * static_cast<std::size_t>(copies));
+  for (const double t : sampleTimes(m, copies)) steady::io::append(out, steady::io::transformed(body, poseAt(m, t)));
+
+  steady::io::MeshWriteOptions options;
+  options.binary = binary;
+  try {
+    steady::io::writeMesh(output, out, options);
+  } catch (const steady::Error& e) {
+    if (e.code() == steady::ErrorCode::Io) throw OutputError(e.what());
+    throw;
+  }
+  return "steady pattern: " + std::to_string(copies) + (copies == 1 ? " copy" : " copies") + " of " + mesh + " (" +
+         std::to_string(body.vertices.size()) + " vertices, " + std::to_string(body.faces.size()) + " triangles) along " +
+         loaded.source + " (" + steady::to_string(m.interpolation()) + ", t " + num(m.beginTime()) + " .. " +
+         num(m.endTime()) + "): " + std::to_string(out.vertices.size()) + " vertices, " +
+         std::to_string(out.faces.size()) + " triangles written to " + output +
+         (binary ? " (binary)" : "");
 }
 
 }  // namespace steady_cli

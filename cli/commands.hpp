@@ -1,14 +1,23 @@
 #pragma once
 // The commands of the steady tool. Each returns the complete text for standard output, so
 // that nothing is printed unless the whole command succeeded. Errors are thrown:
-// steady_cli::UsageError for bad arguments, steady::Error for math failures.
+// steady_cli::UsageError for bad arguments, steady::Error for math failures and unreadable
+// input files (codes InvalidFile, Io), steady_cli::OutputError when an output file cannot be
+// written.
 
 #include <steady/core/ear.hpp>
 
 #include <optional>
+#include <stdexcept>
 #include <string>
 
 namespace steady_cli {
+
+/// An output file could not be written (exit status 1, reason "io"); nothing was written.
+class OutputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 /// `steady pow`: {"case", "result" (A^t as rows of [L | t]), "log" {"M", "u"}}.
 std::string powCommand(const std::string& affinity, double t, int dim, const steady::EarOptions& options);
@@ -27,5 +36,17 @@ struct DemoOutput {
 /// `steady demo`: the regular pattern between the bundled poses. `data_dir` is the --data
 /// value ("" to search the default places).
 DemoOutput demoCommand(const std::string& data_dir, int steps);
+
+/// `steady motion sample`: {"interpolation", "poses": [{"t", "pose"}, ...]}, the exact curve of
+/// the motion file at `count` (>= 2) equally spaced times from its first to its last key time.
+/// `motion` is a path, "-" for standard input (also "@path", "@-"), or inline JSON ('{...}').
+std::string motionSampleCommand(const std::string& motion, int count);
+
+/// `steady pattern`: the body mesh placed at `copies` (>= 1) poses of the motion, at equally
+/// spaced times from the first to the last key time (both included; 1 copy: the first pose),
+/// merged without welding and written atomically to `output` (format from its extension).
+/// Returns the one-line summary for standard error.
+std::string patternCommand(const std::string& motion, int copies, const std::string& mesh,
+                           const std::string& output, bool binary);
 
 }  // namespace steady_cli

@@ -33,12 +33,24 @@ const char* const kAffinityHelp =
     "  With --dim 2: 6 numbers (the 2x3 matrix [L | t]) or 9, and 2x3 arrays.\n"
     "  A pose maps body coordinates to world coordinates: p -> L p + t.\n";
 
+const char* const kMotionHelp =
+    "MOTION (for --motion): a JSON motion file (format: io/README.md), \"-\" for standard input\n"
+    "  (\"@FILE\" and \"@-\" work too), or the JSON itself starting with '{':\n"
+    "    {\"keyframes\": [{\"t\": 0, \"pose\": [[r00, r01, r02, tx], [r10, r11, r12, ty], [r20, r21, r22, tz]]},\n"
+    "                   {\"t\": 1, \"pose\": {\"translation\": [x, y, z], \"axis\": [ax, ay, az], \"angle_deg\": a,\n"
+    "                                    \"scale\": s}}, ...],\n"
+    "     \"interpolation\": \"polysam\" | \"bezier\" | \"biarc\" | \"subdivide\"}\n"
+    "  Optional: \"rounds\" (subdivide, 0..8), \"no_sam\": \"fail\" | \"split\", \"tolerance\" or \"spans\"\n"
+    "  (curved motions as SAM spans), \"description\". Unknown members are errors. A fault is reported\n"
+    "  with its JSON path, e.g. \"m.json: keyframes[2].pose: row 1 has 3 entries, expected 4\".\n";
+
 const char* const kOutputHelp =
     "OUTPUT: JSON on standard output; numbers in the shortest form that reads back to the same\n"
     "  double (at most 17 significant digits). Matrices are arrays of rows of [L | t].\n"
-    "EXIT STATUS: 0 success; 2 usage error or unreadable argument; 3 math error (no real logarithm,\n"
-    "  reflection, singular pose, overflow); 1 anything else. Errors are reported on standard error\n"
-    "  as \"steady: error [<reason>]: <message>\" and nothing is printed on standard output.\n";
+    "EXIT STATUS: 0 success; 2 usage error or unreadable argument (including a missing or malformed\n"
+    "  motion or mesh file); 3 math error (no real logarithm, reflection, singular pose, overflow);\n"
+    "  1 anything else (e.g. an output file that cannot be written). Errors are reported on standard\n"
+    "  error as \"steady: error [<reason>]: <message>\" and nothing is printed on standard output.\n";
 
 int report(const std::string& tag, const std::string& message, int status) {
   std::fprintf(stderr, "steady: error [%s]: %s\n", tag.c_str(), message.c_str());
@@ -66,7 +78,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "steady " STEADY_VERSION, "Print the version and exit");
   app.require_subcommand(0, 1);
   app.footer(std::string("Run 'steady <command> --help' for the options of a command.\n\n") + kAffinityHelp + "\n" +
-             kOutputHelp);
+             kMotionHelp + "\n" + kOutputHelp);
 
   // Every command gets its own variables; only the parsed one is used.
   std::string pow_affinity, pow_t, pow_half = "ccw";
@@ -137,6 +149,51 @@ int main(int argc, char** argv) {
                            "its fixed point.\n\n") +
                kOutputHelp);
 
+  CLI::App* motion = app.add_subcommand("motion", "Motions from key poses (a motion file): 'steady motion sample'");
+  motion->require_subcommand(1);
+  std::string sample_motion;
+  int sample_count = 0;
+  CLI::App* sample = motion->add_subcommand(
+      "sample", "The exact motion curve at N equally spaced times from the first to the last key time");
+  sample->add_option("-m,--motion", sample_motion, "The motion file (see MOTION)")->type_name("MOTION")->required();
+  sample->add_option("-n,--count", sample_count, "Number of poses N (at least 2: the first and last key times included)")
+      ->type_name("N")
+      ->required()
+      ->check(CLI::Range(2, 1000000));
+  sample->footer(std::string("Prints {\"interpolation\", \"poses\": [{\"t\", \"pose\": 3 rows of [L | t]}, ...]}: the\n"
+                             "poses of the exact curve (KeyframeMotion::pose) at t_i = t_first + i (t_last - t_first) / (N - 1).\n"
+                             "Example: steady motion sample --motion data/motions/keys.json --count 9\n\n") +
+                 kMotionHelp + "\n" + kOutputHelp);
+  motion->footer(std::string("Run 'steady motion sample --help' for its options.\n\n") + kMotionHelp);
+
+  std::string pattern_motion, pattern_mesh, pattern_output;
+  int pattern_copies = 0;
+  bool pattern_binary = false;
+  CLI::App* pattern = app.add_subcommand(
+      "pattern", "A mesh placed at N poses of a motion, merged into one mesh file");
+  pattern->add_option("-m,--motion", pattern_motion, "The motion file (see MOTION)")->type_name("MOTION")->required();
+  pattern->add_option("-n,--copies", pattern_copies,
+                      "Number of copies N: poses at N equally spaced times from the first to the last key time, "
+                      "both included (N = 1: the first pose)")
+      ->type_name("N")
+      ->required()
+      ->check(CLI::Range(1, 1000000));
+  pattern->add_option("--mesh", pattern_mesh, "The body: a triangle mesh file (.off, .ply, .obj, .stl)")
+      ->type_name("FILE")
+      ->required();
+  pattern->add_option("-o,--output", pattern_output, "The output mesh file; its extension (.off, .ply, .obj, .stl) selects the format")
+      ->type_name("FILE")
+      ->required();
+  pattern->add_flag("--binary", pattern_binary, "Binary output (.ply, .stl)");
+  pattern->footer(std::string("The copies are not welded: the output holds N x the body's vertices and triangles, copy i\n"
+                              "at the pose of time t_i = t_first + i (t_last - t_first) / (N - 1). For a polySAM with two keys\n"
+                              "B and C this is the regular pattern (C B^-1)^(i/(N-1)) B. The file is written atomically (a\n"
+                              "temporary file in the same directory, then renamed): on failure nothing is left behind.\n"
+                              "Prints nothing on standard output and a one-line summary on standard error.\n"
+                              "Example: steady pattern --motion data/motions/screw.json --copies 8 \\\n"
+                              "           --mesh data/meshes/tetrahedron.off -o pattern.ply\n\n") +
+                  kMotionHelp + "\n" + kOutputHelp);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -145,7 +202,7 @@ int main(int argc, char** argv) {
     if (app.get_subcommands().empty() && dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr && !extra.empty() &&
         extra.front().rfind('-', 0) != 0)
       return report("usage", "unknown command '" + extra.front() +
-                                 "' (the commands are pow, sam and demo; run 'steady --help')", 2);
+                                 "' (the commands are pow, sam, demo, motion and pattern; run 'steady --help')", 2);
     return report("usage", std::string(e.what()) + " (run 'steady --help' or 'steady <command> --help')", 2);
   }
 
@@ -169,13 +226,24 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "%s\n", out.summary.c_str());
       return status;
     }
+    if (sample->parsed()) return emit(steady_cli::motionSampleCommand(sample_motion, sample_count));
+    if (pattern->parsed()) {
+      const std::string summary =
+          steady_cli::patternCommand(pattern_motion, pattern_copies, pattern_mesh, pattern_output, pattern_binary);
+      std::fprintf(stderr, "%s\n", summary.c_str());
+      return 0;
+    }
     // A bare `steady`: list the commands.
     std::cout << app.help() << std::flush;
     return 0;
   } catch (const steady_cli::UsageError& e) {
     return report(e.tag(), e.what(), 2);
+  } catch (const steady_cli::OutputError& e) {
+    return report("io", e.what(), 1);
   } catch (const steady::Error& e) {
-    return report(steady::to_string(e.code()), e.what(), 3);
+    // A missing or malformed input file is an unreadable argument; the rest is math.
+    const bool input = e.code() == steady::ErrorCode::InvalidFile || e.code() == steady::ErrorCode::Io;
+    return report(steady::to_string(e.code()), e.what(), input ? 2 : 3);
   } catch (const std::exception& e) {
     return report("internal", e.what(), 1);
   }

@@ -8,7 +8,8 @@ packages=(
   libboost-dev       # 50-digit test oracles (boost::multiprecision)
   libgtest-dev       # tests
   libbenchmark-dev   # bench/
-  libcli11-dev nlohmann-json3-dev  # cli/
+  libcli11-dev nlohmann-json3-dev  # cli/, io/ (motion files)
+  libopenmesh-dev    # io/ (mesh files)
 )
 
 missing=()

@@ -13,6 +13,11 @@
 #   SAME_AS       '|'-separated arguments of a second run whose standard output must be identical
 #   OUT           file that receives standard output (for the JSON check)
 #   STDIN         file fed to standard input (default: none)
+#   FILE          a file the run writes: removed before the run; then, with
+#   FILE_REGEX    regular expression its first 64 KiB must match, and/or
+#   FILE_SIZE     its size in bytes
+#   ABSENT        '|'-separated glob patterns that must match nothing after the run (matching
+#                 files are removed before it): files a failing run must not leave behind
 #
 # A failing run (EXIT != 0) must leave standard output empty and report
 # "steady: error [<reason>]: ..." on standard error.
@@ -28,6 +33,16 @@ if(NOT DEFINED TOL OR TOL STREQUAL "")
 endif()
 
 string(REPLACE "|" ";" args "${ARGS}")
+string(REPLACE "|" ";" absent "${ABSENT}")
+if(DEFINED FILE AND NOT FILE STREQUAL "")
+  file(REMOVE "${FILE}")
+endif()
+foreach(pattern IN LISTS absent)
+  file(GLOB stale "${pattern}")
+  if(stale)
+    file(REMOVE ${stale})
+  endif()
+endforeach()
 set(input "")
 if(DEFINED STDIN AND NOT STDIN STREQUAL "")
   set(input INPUT_FILE "${STDIN}")
@@ -72,6 +87,31 @@ if(DEFINED JSON AND NOT JSON STREQUAL "")
     fail("JSON output does not match:\n${check_err}")
   endif()
 endif()
+
+if(DEFINED FILE AND NOT FILE STREQUAL "")
+  if(NOT EXISTS "${FILE}")
+    fail("the output file ${FILE} does not exist")
+  else()
+    if(DEFINED FILE_REGEX AND NOT FILE_REGEX STREQUAL "")
+      file(READ "${FILE}" head LIMIT 65536)
+      if(NOT head MATCHES "${FILE_REGEX}")
+        fail("the output file ${FILE} does not match '${FILE_REGEX}'")
+      endif()
+    endif()
+    if(DEFINED FILE_SIZE AND NOT FILE_SIZE STREQUAL "")
+      file(SIZE "${FILE}" size)
+      if(NOT size EQUAL FILE_SIZE)
+        fail("the output file ${FILE} has ${size} bytes, expected ${FILE_SIZE}")
+      endif()
+    endif()
+  endif()
+endif()
+foreach(pattern IN LISTS absent)
+  file(GLOB left LIST_DIRECTORIES true "${pattern}")
+  if(left)
+    fail("left behind: ${left}")
+  endif()
+endforeach()
 
 if(DEFINED SAME_AS AND NOT SAME_AS STREQUAL "")
   string(REPLACE "|" ";" args2 "${SAME_AS}")

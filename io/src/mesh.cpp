@@ -1,0 +1,668 @@
+// Triangle meshes: reading through OpenMesh's format readers, atomic writing by steady itself.
+
+#include <steady/io/mesh.hpp>
+
+#include <steady/core/error.hpp>
+
+#include <Eigen/Geometry>  // cross
+
+#include <OpenMesh/Core/IO/IOManager.hh>
+#include <OpenMesh/Core/IO/importer/BaseImporter.hh>
+#include <OpenMesh/Core/System/omstream.hh>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <mutex>
+#include <sstream>
+#include <system_error>
+
+namespace steady::io {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+[[noreturn]] void fail(ErrorCode code, const std::string& message) { throw Error(code, message); }
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+const char* formatName(MeshFormat f) {
+  switch (f) {
+    case MeshFormat::Off: return "OFF";
+    case MeshFormat::Ply: return "PLY";
+    case MeshFormat::Obj: return "OBJ";
+    case MeshFormat::Stl: return "STL";
+  }
+  return "?";
+}
+
+// The extension of a path, lower case, without the dot ("" when there is none).
+std::string extensionOf(const std::string& path) {
+  const std::string ext = fs::path(path).extension().string();
+  return ext.size() > 1 ? lower(ext.substr(1)) : std::string();
+}
+
+bool formatOf(const std::string& path, MeshFormat& out) {
+  const std::string ext = extensionOf(path);
+  if (ext == "off") out = MeshFormat::Off;
+  else if (ext == "ply") out = MeshFormat::Ply;
+  else if (ext == "obj") out = MeshFormat::Obj;
+  else if (ext == "stl") out = MeshFormat::Stl;
+  else return false;
+  return true;
+}
+
+std::string unknownExtension(const std::string& path) {
+  const std::string ext = fs::path(path).extension().string();
+  return "'" + path + "': " + (ext.empty() ? std::string("no file extension") : "unknown extension '" + ext + "'") +
+         "; the mesh formats are .off, .ply, .obj and .stl (the extension selects the format)";
+}
+
+// --- reading ---------------------------------------------------------------------------------
+
+// Receives what an OpenMesh reader finds, without building OpenMesh's half-edge structure:
+// every vertex and every polygon exactly as in the file. Faces with an index outside the
+// vertex list are counted; everything but positions and faces is ignored.
+class Collector : public OpenMesh::IO::BaseImporter {
+ public:
+  using VertexHandle = OpenMesh::VertexHandle;
+  using FaceHandle = OpenMesh::FaceHandle;
+  using HalfedgeHandle = OpenMesh::HalfedgeHandle;
+  using EdgeHandle = OpenMesh::EdgeHandle;
+  using Vec2f = OpenMesh::Vec2f;
+  using Vec3f = OpenMesh::Vec3f;
+  using Vec3d = OpenMesh::Vec3d;
+  using Vec3uc = OpenMesh::Vec3uc;
+  using Vec4uc = OpenMesh::Vec4uc;
+  using Vec4f = OpenMesh::Vec4f;
+  using StatusInfo = OpenMesh::Attributes::StatusInfo;
+
+  std::vector<Eigen::Vector3d> points;
+  std::vector<std::vector<int>> polygons;
+  std::size_t bad_faces = 0;       // faces naming a vertex that does not exist
+  std::size_t first_bad_face = 0;  // index (in the file's face order) of the first one
+  int first_bad_index = 0;
+  std::size_t short_faces = 0;     // faces with fewer than three corners (ignored)
+
+  VertexHandle add_vertex(const Vec3f& p) override { return push(p[0], p[1], p[2]); }
+  VertexHandle add_vertex(const Vec3d& p) override { return push(p[0], p[1], p[2]); }
+  VertexHandle add_vertex() override { return push(0, 0, 0); }
+  HalfedgeHandle add_edge(VertexHandle, VertexHandle) override { return HalfedgeHandle(); }
+  FaceHandle add_face(const VHandles& corners) override {
+    const std::size_t face = faces_seen_++;
+    if (corners.size() < 3) {
+      ++short_faces;
+      return FaceHandle();
+    }
+    std::vector<int> poly;
+    poly.reserve(corners.size());
+    for (const VertexHandle& v : corners) {
+      if (v.idx() < 0 || static_cast<std::size_t>(v.idx()) >= points.size()) {
+        if (bad_faces++ == 0) {
+          first_bad_face = face;
+          first_bad_index = v.idx();
+        }
+        return FaceHandle();
+      }
+      poly.push_back(v.idx());
+    }
+    polygons.push_back(std::move(poly));
+    return FaceHandle(static_cast<int>(polygons.size() - 1));
+  }
+  FaceHandle add_face(HalfedgeHandle) override { return FaceHandle(); }
+  void add_face_texcoords(FaceHandle, VertexHandle, const std::vector<Vec2f>&) override {}
+  void add_face_texcoords(FaceHandle, VertexHandle, const std::vector<Vec3f>&) override {}
+  void set_face_texindex(FaceHandle, int) override {}
+  void set_point(VertexHandle v, const Vec3f& p) override {
+    if (v.idx() >= 0 && static_cast<std::size_t>(v.idx()) < points.size()) points[static_cast<std::size_t>(v.idx())] = {p[0], p[1], p[2]};
+  }
+  void set_halfedge(VertexHandle, HalfedgeHandle) override {}
+  void set_normal(VertexHandle, const Vec3f&) override {}
+  void set_normal(VertexHandle, const Vec3d&) override {}
+  void set_color(VertexHandle, const Vec3uc&) override {}
+  void set_color(VertexHandle, const Vec4uc&) override {}
+  void set_color(VertexHandle, const Vec3f&) override {}
+  void set_color(VertexHandle, const Vec4f&) override {}
+  void set_texcoord(VertexHandle, const Vec2f&) override {}
+  void set_status(VertexHandle, const StatusInfo&) override {}
+  void set_next(HalfedgeHandle, HalfedgeHandle) override {}
+  void set_face(HalfedgeHandle, FaceHandle) override {}
+  void request_face_texcoords2D() override {}
+  void set_texcoord(HalfedgeHandle, const Vec2f&) override {}
+  void set_texcoord(VertexHandle, const Vec3f&) override {}
+  void set_texcoord(HalfedgeHandle, const Vec3f&) override {}
+  void set_status(HalfedgeHandle, const StatusInfo&) override {}
+  void set_color(EdgeHandle, const Vec3uc&) override {}
+  void set_color(EdgeHandle, const Vec4uc&) override {}
+  void set_color(EdgeHandle, const Vec3f&) override {}
+  void set_color(EdgeHandle, const Vec4f&) override {}
+  void set_status(EdgeHandle, const StatusInfo&) override {}
+  void set_normal(FaceHandle, const Vec3f&) override {}
+  void set_normal(FaceHandle, const Vec3d&) override {}
+  void set_color(FaceHandle, const Vec3uc&) override {}
+  void set_color(FaceHandle, const Vec4uc&) override {}
+  void set_color(FaceHandle, const Vec3f&) override {}
+  void set_color(FaceHandle, const Vec4f&) override {}
+  void set_status(FaceHandle, const StatusInfo&) override {}
+  void add_texture_information(int, std::string) override {}
+  void reserve(unsigned int nv, unsigned int, unsigned int nf) override {
+    // Sizes come from file headers: reserve a sane amount only.
+    points.reserve(std::min<std::size_t>(nv, std::size_t{1} << 24));
+    polygons.reserve(std::min<std::size_t>(nf, std::size_t{1} << 24));
+  }
+  size_t n_vertices() const override { return points.size(); }
+  size_t n_faces() const override { return polygons.size(); }
+  size_t n_edges() const override { return 0; }
+  std::size_t faces_seen() const { return faces_seen_; }
+
+ private:
+  VertexHandle push(double x, double y, double z) {
+    points.emplace_back(x, y, z);
+    return VertexHandle(static_cast<int>(points.size() - 1));
+  }
+  std::size_t faces_seen_ = 0;
+};
+
+// OpenMesh reports problems on its global streams omerr/omlog/omout (standard error and
+// output by default). While a file is read they go to a string instead, which becomes part of
+// the error message; the mutex keeps two readMesh calls from interleaving.
+std::mutex& openMeshMutex() {
+  static std::mutex m;
+  return m;
+}
+
+class CaptureOpenMeshMessages {
+ public:
+  CaptureOpenMeshMessages() {
+    for (OpenMesh::mostream* s : streams()) {
+      s->flush();
+      Saved saved{s, s->disconnect(std::cerr), s->disconnect(std::cout), s->disconnect(std::clog)};
+      s->connect(text_);
+      saved_.push_back(saved);
+    }
+  }
+  ~CaptureOpenMeshMessages() {
+    for (const Saved& saved : saved_) {
+      saved.stream->flush();
+      saved.stream->disconnect(text_);
+      if (saved.cerr) saved.stream->connect(std::cerr);
+      if (saved.cout) saved.stream->connect(std::cout);
+      if (saved.clog) saved.stream->connect(std::clog);
+    }
+  }
+  CaptureOpenMeshMessages(const CaptureOpenMeshMessages&) = delete;
+  CaptureOpenMeshMessages& operator=(const CaptureOpenMeshMessages&) = delete;
+
+  // What OpenMesh said, on one line.
+  std::string text() {
+    for (const Saved& saved : saved_) saved.stream->flush();
+    std::string s = text_.str();
+    std::replace(s.begin(), s.end(), '\n', ' ');
+    while (!s.empty() && s.back() == ' ') s.pop_back();
+    return s;
+  }
+
+ private:
+  struct Saved {
+    OpenMesh::mostream* stream;
+    bool cerr, cout, clog;
+  };
+  static std::vector<OpenMesh::mostream*> streams() { return {&omerr(), &omlog(), &omout()}; }
+  std::ostringstream text_;
+  std::vector<Saved> saved_;
+};
+
+const char* article(MeshFormat f) { return f == MeshFormat::Ply ? "a" : "an"; }
+
+// OpenMesh's OFF reader accepts truncated files (repeating the last face) and misreads comment
+// lines without an error, so text OFF files are checked here first: the structure the header
+// announces, line by line. The announced counts are compared with what OpenMesh reads.
+struct OffHeader {
+  bool checked = false;  // a text OFF file with the plain "OFF" keyword
+  std::size_t vertices = 0, faces = 0;
+  bool comments = false;
+};
+
+OffHeader checkTextOff(const std::string& path) {
+  OffHeader h;
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  std::size_t line_no = 0;
+  const auto bad = [&](const std::string& what) {
+    fail(ErrorCode::InvalidFile, "the mesh '" + path + "' is not a valid OFF file: line " + std::to_string(line_no) + ": " + what);
+  };
+  // The next line with content, split into tokens ('#' starts a comment); false at the end.
+  std::vector<std::string> tokens;
+  const auto next = [&]() {
+    while (std::getline(in, line)) {
+      ++line_no;
+      const auto hash = line.find('#');
+      if (hash != std::string::npos) {
+        h.comments = true;
+        line.erase(hash);
+      }
+      std::istringstream words(line);
+      tokens.clear();
+      for (std::string w; words >> w;) tokens.push_back(w);
+      if (!tokens.empty()) return true;
+    }
+    return false;
+  };
+  const auto integer = [&](const std::string& t, long long& out) {
+    const auto r = std::from_chars(t.data(), t.data() + t.size(), out);
+    return r.ec == std::errc() && r.ptr == t.data() + t.size();
+  };
+  const auto real = [&](const std::string& t) {
+    char* end = nullptr;
+    const double x = std::strtod(t.c_str(), &end);
+    return end == t.c_str() + t.size() && std::isfinite(x);
+  };
+  if (!next()) {
+    line_no = 1;
+    bad("the file is empty");
+  }
+  if (tokens[0] != "OFF") return h;  // COFF, NOFF, binary OFF, ...: left to OpenMesh alone
+  if (tokens.size() > 1 && tokens[1] == "BINARY") return h;
+  tokens.erase(tokens.begin());
+  if (tokens.empty() && !next()) bad("the file ends before the counts 'vertices faces edges'");
+  long long nv = -1, nf = -1;
+  if (tokens.size() < 2 || !integer(tokens[0], nv) || !integer(tokens[1], nf) || nv < 0 || nf < 0)
+    bad("expected the counts 'vertices faces edges', got '" + line + "'");
+  for (long long i = 0; i < nv; ++i) {
+    if (!next()) bad("the file ends after " + std::to_string(i) + " of the " + std::to_string(nv) + " vertices it announces");
+    if (tokens.size() < 3 || !real(tokens[0]) || !real(tokens[1]) || !real(tokens[2]))
+      bad("expected vertex " + std::to_string(i) + " as three finite numbers 'x y z', got '" + line + "'");
+  }
+  for (long long i = 0; i < nf; ++i) {
+    if (!next()) bad("the file ends after " + std::to_string(i) + " of the " + std::to_string(nf) + " faces it announces");
+    long long k = -1;
+    if (!integer(tokens[0], k) || k < 0 || static_cast<std::size_t>(k) + 1 > tokens.size())
+      bad("expected face " + std::to_string(i) + " as 'n i1 ... in' (n corner indices), got '" + line + "'");
+    for (long long c = 1; c <= k; ++c) {
+      long long idx = -1;
+      if (!integer(tokens[static_cast<std::size_t>(c)], idx) || idx < 0 || idx >= nv)
+        bad("face " + std::to_string(i) + ": corner '" + tokens[static_cast<std::size_t>(c)] + "' is not a vertex index in 0.." +
+            std::to_string(nv - 1));
+    }
+  }
+  if (h.comments)
+    fail(ErrorCode::InvalidFile, "the mesh '" + path + "' has comments ('#'), which OpenMesh's OFF reader misreads; "
+                                 "remove them");
+  h.checked = true;
+  h.vertices = static_cast<std::size_t>(nv);
+  h.faces = static_cast<std::size_t>(nf);
+  return h;
+}
+
+// A binary STL (not starting with "solid") must be 84 + 50 n bytes long for its n triangles.
+void checkBinaryStlSize(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char head[84];
+  in.read(head, sizeof head);
+  const std::streamsize got = in.gcount();
+  std::size_t first = 0;
+  while (first < static_cast<std::size_t>(got) && std::isspace(static_cast<unsigned char>(head[first]))) ++first;
+  if (static_cast<std::size_t>(got) >= first + 5 && std::string(head + first, 5) == "solid") return;  // text STL
+  if (got < 84)
+    fail(ErrorCode::InvalidFile, "the mesh '" + path + "' is not a valid STL file: " + std::to_string(got) +
+                                     " bytes, fewer than the 84 of a binary STL header and it does not start with 'solid'");
+  std::uint32_t n = 0;
+  for (int i = 3; i >= 0; --i) n = (n << 8) | static_cast<unsigned char>(head[80 + i]);
+  std::error_code ec;
+  const std::uintmax_t size = fs::file_size(path, ec);
+  const std::uintmax_t want = 84 + 50 * static_cast<std::uintmax_t>(n);
+  if (!ec && size != want)
+    fail(ErrorCode::InvalidFile, "the mesh '" + path + "' is not a valid binary STL file: its header announces " +
+                                     std::to_string(n) + " triangles (" + std::to_string(want) + " bytes) but it has " +
+                                     std::to_string(size) + " bytes (truncated?)");
+}
+
+}  // namespace
+
+MeshFormat meshFormatOf(const std::string& path) {
+  MeshFormat f{};
+  if (!formatOf(path, f)) fail(ErrorCode::InvalidArgument, unknownExtension(path));
+  return f;
+}
+
+TriangleMesh readMesh(const std::string& path) {
+  MeshFormat format{};
+  if (!formatOf(path, format)) fail(ErrorCode::InvalidFile, "cannot read the mesh " + unknownExtension(path));
+  const std::string name = "'" + path + "'";
+  {
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) fail(ErrorCode::Io, "cannot read the mesh " + name + ": it is a directory");
+    errno = 0;
+    std::ifstream probe(path, std::ios::binary);
+    if (!probe) {
+      const int err = errno;
+      fail(ErrorCode::Io, "cannot read the mesh " + name + ": " + (err ? std::strerror(err) : "cannot open the file") +
+                              "; check the path and its permissions");
+    }
+  }
+
+  OffHeader off;
+  if (format == MeshFormat::Off) off = checkTextOff(path);
+  if (format == MeshFormat::Stl) checkBinaryStlSize(path);
+
+  Collector collected;
+  bool ok = false;
+  std::string said;
+  {
+    const std::lock_guard<std::mutex> lock(openMeshMutex());
+    CaptureOpenMeshMessages capture;
+    OpenMesh::IO::Options options;
+    try {
+      ok = OpenMesh::IO::IOManager().read(path, collected, options);
+    } catch (const std::exception& e) {
+      ok = false;
+      said = e.what();
+    }
+    const std::string more = capture.text();
+    said += (said.empty() || more.empty() ? "" : " ") + more;
+  }
+  const std::string fmt = formatName(format);
+  const std::string what_said = said.empty() ? std::string() : " (OpenMesh: " + said + ")";
+  if (!ok)
+    fail(ErrorCode::InvalidFile, "cannot parse the mesh " + name + " as " + fmt + what_said +
+                                     "; check that the file is a valid " + fmt + " file and that its extension matches its content");
+  if (off.checked && (collected.points.size() != off.vertices || collected.faces_seen() != off.faces))
+    fail(ErrorCode::InvalidFile, "the mesh " + name + ": OpenMesh read " + std::to_string(collected.points.size()) + " of " +
+                                     std::to_string(off.vertices) + " vertices and " + std::to_string(collected.faces_seen()) +
+                                     " of " + std::to_string(off.faces) + " faces" + what_said + "; check the file");
+  if (collected.bad_faces > 0)
+    fail(ErrorCode::InvalidFile, "the mesh " + name + " is corrupt: face " + std::to_string(collected.first_bad_face) +
+                                     " refers to vertex " + std::to_string(collected.first_bad_index) + " but there are " +
+                                     std::to_string(collected.points.size()) + " vertices (" +
+                                     std::to_string(collected.bad_faces) + " faces do)");
+
+  TriangleMesh mesh;
+  mesh.vertices = std::move(collected.points);
+  for (const std::vector<int>& poly : collected.polygons)
+    for (std::size_t i = 1; i + 1 < poly.size(); ++i) mesh.faces.push_back({poly[0], poly[i], poly[i + 1]});
+  if (mesh.faces.empty())
+    fail(ErrorCode::InvalidFile, "the mesh " + name + " holds no triangle (" + std::to_string(mesh.vertices.size()) +
+                                     " vertices, no face with three or more corners)" + what_said +
+                                     "; check that it is " + article(format) + " " + fmt + " file of a surface");
+  for (const Eigen::Vector3d& v : mesh.vertices)
+    if (!v.allFinite())
+      fail(ErrorCode::InvalidFile, "the mesh " + name + " has a vertex with a NaN or infinite coordinate");
+  return mesh;
+}
+
+// --- writing ---------------------------------------------------------------------------------
+
+namespace {
+
+// A failed system call while writing: errno and what was being done.
+struct WriteFailure {
+  int err;
+  std::string doing;
+};
+
+// Buffered writes to a file descriptor; every failure becomes a WriteFailure.
+class Sink {
+ public:
+  explicit Sink(int fd) : fd_(fd) { buffer_.reserve(kChunk + 256); }
+  void put(const char* data, std::size_t n) {
+    buffer_.append(data, n);
+    if (buffer_.size() >= kChunk) flush();
+  }
+  void put(const std::string& s) { put(s.data(), s.size()); }
+  void put(char c) { put(&c, 1); }
+  void number(double x) {
+    char buf[64];
+    const auto r = std::to_chars(buf, buf + sizeof buf, x + 0.0);  // shortest round-trip form; no "-0"
+    put(buf, static_cast<std::size_t>(r.ptr - buf));
+  }
+  void integer(long long x) { put(std::to_string(x)); }
+  template <class T>
+  void little(T value) {  // little-endian bytes of an integer or IEEE float
+    unsigned char bytes[sizeof(T)];
+    std::memcpy(bytes, &value, sizeof(T));
+    if (!hostIsLittle()) std::reverse(bytes, bytes + sizeof(T));
+    put(reinterpret_cast<const char*>(bytes), sizeof(T));
+  }
+  void flush() {
+    std::size_t done = 0;
+    while (done < buffer_.size()) {
+      const ssize_t n = ::write(fd_, buffer_.data() + done, buffer_.size() - done);
+      if (n < 0) {
+        if (errno == EINTR) continue;
+        throw WriteFailure{errno, "writing"};
+      }
+      done += static_cast<std::size_t>(n);
+    }
+    buffer_.clear();
+  }
+
+ private:
+  static bool hostIsLittle() {
+    const std::uint16_t one = 1;
+    unsigned char first = 0;
+    std::memcpy(&first, &one, 1);
+    return first == 1;
+  }
+  static constexpr std::size_t kChunk = std::size_t{1} << 20;
+  int fd_;
+  std::string buffer_;
+};
+
+void point(Sink& out, const Eigen::Vector3d& p) {
+  out.number(p.x());
+  out.put(' ');
+  out.number(p.y());
+  out.put(' ');
+  out.number(p.z());
+}
+
+void writeOff(Sink& out, const TriangleMesh& m) {
+  out.put("OFF\n");
+  out.put(std::to_string(m.vertices.size()) + " " + std::to_string(m.faces.size()) + " 0\n");
+  for (const auto& v : m.vertices) {
+    point(out, v);
+    out.put('\n');
+  }
+  for (const auto& f : m.faces) out.put("3 " + std::to_string(f[0]) + " " + std::to_string(f[1]) + " " + std::to_string(f[2]) + "\n");
+}
+
+void writeObj(Sink& out, const TriangleMesh& m) {
+  out.put("# written by steady: " + std::to_string(m.vertices.size()) + " vertices, " + std::to_string(m.faces.size()) +
+          " triangles\n");
+  for (const auto& v : m.vertices) {
+    out.put("v ");
+    point(out, v);
+    out.put('\n');
+  }
+  for (const auto& f : m.faces)
+    out.put("f " + std::to_string(f[0] + 1) + " " + std::to_string(f[1] + 1) + " " + std::to_string(f[2] + 1) + "\n");
+}
+
+void writePly(Sink& out, const TriangleMesh& m, bool binary) {
+  out.put(std::string("ply\nformat ") + (binary ? "binary_little_endian" : "ascii") + " 1.0\n" +
+          "comment written by steady\n" + "element vertex " + std::to_string(m.vertices.size()) + "\n" +
+          "property double x\nproperty double y\nproperty double z\n" + "element face " +
+          std::to_string(m.faces.size()) + "\n" + "property list uchar int vertex_indices\nend_header\n");
+  if (binary) {
+    for (const auto& v : m.vertices) {
+      out.little(v.x() + 0.0);
+      out.little(v.y() + 0.0);
+      out.little(v.z() + 0.0);
+    }
+    for (const auto& f : m.faces) {
+      out.little(static_cast<std::uint8_t>(3));
+      for (int i : f) out.little(static_cast<std::int32_t>(i));
+    }
+    return;
+  }
+  for (const auto& v : m.vertices) {
+    point(out, v);
+    out.put('\n');
+  }
+  for (const auto& f : m.faces) out.put("3 " + std::to_string(f[0]) + " " + std::to_string(f[1]) + " " + std::to_string(f[2]) + "\n");
+}
+
+Eigen::Vector3d unitNormal(const TriangleMesh& m, const std::array<int, 3>& f) {
+  const Eigen::Vector3d& a = m.vertices[static_cast<std::size_t>(f[0])];
+  const Eigen::Vector3d& b = m.vertices[static_cast<std::size_t>(f[1])];
+  const Eigen::Vector3d& c = m.vertices[static_cast<std::size_t>(f[2])];
+  const Eigen::Vector3d n = (b - a).cross(c - a);
+  const double len = n.norm();
+  return len > 0 && std::isfinite(len) ? Eigen::Vector3d(n / len) : Eigen::Vector3d::Zero();
+}
+
+void writeStl(Sink& out, const TriangleMesh& m, bool binary) {
+  if (binary) {
+    std::string header = "binary STL written by steady";  // must not start with "solid"
+    header.resize(80, ' ');
+    out.put(header);
+    out.little(static_cast<std::uint32_t>(m.faces.size()));
+    for (const auto& f : m.faces) {
+      const Eigen::Vector3d n = unitNormal(m, f);
+      for (int k = 0; k < 3; ++k) out.little(static_cast<float>(n(k)));
+      for (int i : f)
+        for (int k = 0; k < 3; ++k) out.little(static_cast<float>(m.vertices[static_cast<std::size_t>(i)](k)));
+      out.little(static_cast<std::uint16_t>(0));
+    }
+    return;
+  }
+  out.put("solid steady\n");
+  for (const auto& f : m.faces) {
+    out.put("  facet normal ");
+    point(out, unitNormal(m, f));
+    out.put("\n    outer loop\n");
+    for (int i : f) {
+      out.put("      vertex ");
+      point(out, m.vertices[static_cast<std::size_t>(i)]);
+      out.put('\n');
+    }
+    out.put("    endloop\n  endfacet\n");
+  }
+  out.put("endsolid steady\n");
+}
+
+// Checks everything that can be checked before touching the disk.
+void validateForWrite(const std::string& path, const TriangleMesh& m, MeshFormat format, bool binary) {
+  if (binary && (format == MeshFormat::Off || format == MeshFormat::Obj))
+    fail(ErrorCode::InvalidArgument, "'" + path + "': binary output is available for .ply and .stl only; " +
+                                         formatName(format) + " is written as text");
+  const std::size_t nv = m.vertices.size();
+  for (std::size_t i = 0; i < m.faces.size(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      const int idx = m.faces[i][static_cast<std::size_t>(k)];
+      if (idx < 0 || static_cast<std::size_t>(idx) >= nv)
+        fail(ErrorCode::InvalidArgument, "cannot write '" + path + "': face " + std::to_string(i) + " refers to vertex " +
+                                             std::to_string(idx) + " but the mesh has " + std::to_string(nv) +
+                                             " vertices");
+    }
+  const double limit = binary && format == MeshFormat::Stl ? static_cast<double>(std::numeric_limits<float>::max())
+                                                           : std::numeric_limits<double>::max();
+  for (std::size_t i = 0; i < nv; ++i) {
+    const Eigen::Vector3d& v = m.vertices[i];
+    if (!v.allFinite())
+      fail(ErrorCode::NonFinite, "cannot write '" + path + "': vertex " + std::to_string(i) + " has a NaN or infinite coordinate");
+    if (!(std::abs(v.x()) <= limit && std::abs(v.y()) <= limit && std::abs(v.z()) <= limit))
+      fail(ErrorCode::NonFinite, "cannot write '" + path + "': vertex " + std::to_string(i) +
+                                     " has a coordinate beyond the float range of binary STL (3.4e38); write .ply instead");
+  }
+}
+
+std::atomic<unsigned> temp_counter{0};
+
+}  // namespace
+
+void writeMesh(const std::string& path, const TriangleMesh& mesh, const MeshWriteOptions& options) {
+  const MeshFormat format = meshFormatOf(path);
+  validateForWrite(path, mesh, format, options.binary);
+
+  const fs::path target(path);
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  const std::string file = target.filename().string();
+  const std::string name = "'" + path + "'";
+
+  // A new file next to the target: O_EXCL never reuses an existing name; mode 0666 minus umask
+  // gives the permissions of any newly created file.
+  std::string temp;
+  int fd = -1;
+  for (int attempt = 0; fd < 0 && attempt < 100; ++attempt) {
+    temp = (dir / ("." + file + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(temp_counter++))).string();
+    fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0 && errno != EEXIST) {
+      const int err = errno;
+      fail(ErrorCode::Io, "cannot write the mesh " + name + ": cannot create a file in '" + dir.string() + "': " +
+                              std::strerror(err) + "; check that the directory exists and is writable");
+    }
+  }
+  if (fd < 0) fail(ErrorCode::Io, "cannot write the mesh " + name + ": no free temporary file name in '" + dir.string() + "'");
+
+  try {
+    Sink out(fd);
+    switch (format) {
+      case MeshFormat::Off: writeOff(out, mesh); break;
+      case MeshFormat::Ply: writePly(out, mesh, options.binary); break;
+      case MeshFormat::Obj: writeObj(out, mesh); break;
+      case MeshFormat::Stl: writeStl(out, mesh, options.binary); break;
+    }
+    out.flush();
+    if (::fsync(fd) != 0 && errno != EINVAL && errno != EROFS) throw WriteFailure{errno, "flushing"};
+    const int closed = ::close(fd);
+    fd = -1;
+    if (closed != 0) throw WriteFailure{errno, "closing"};
+    if (std::rename(temp.c_str(), path.c_str()) != 0) throw WriteFailure{errno, "renaming the finished file to"};
+  } catch (const WriteFailure& e) {
+    if (fd >= 0) ::close(fd);
+    ::unlink(temp.c_str());
+    std::string hint;
+    if (e.err == ENOSPC || e.err == EDQUOT) hint = "; free some disk space";
+    else if (e.err == EISDIR) hint = "; the output path is a directory";
+    else if (e.err == EACCES || e.err == EPERM) hint = "; check the permissions";
+    fail(ErrorCode::Io, "cannot write the mesh " + name + ": error while " + e.doing + " it: " + std::strerror(e.err) +
+                            hint + " (nothing was written)");
+  } catch (...) {
+    if (fd >= 0) ::close(fd);
+    ::unlink(temp.c_str());
+    throw;
+  }
+}
+
+// --- helpers -----------------------------------------------------------------------------------
+
+TriangleMesh transformed(const TriangleMesh& mesh, const steady::Affine3& pose) {
+  TriangleMesh out;
+  out.vertices.reserve(mesh.vertices.size());
+  for (const Eigen::Vector3d& v : mesh.vertices) out.vertices.push_back(pose.applyPoint(v));
+  out.faces = mesh.faces;
+  return out;
+}
+
+void append(TriangleMesh& into, const TriangleMesh& part) {
+  const std::size_t offset = into.vertices.size();
+  if (part.vertices.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()) - offset)
+    fail(ErrorCode::InvalidArgument, "append: the merged mesh would hold " + std::to_string(offset) + " + " +
+                                         std::to_string(part.vertices.size()) +
+                                         " vertices, more than an int face index can address");
+  const int shift = static_cast<int>(offset);
+  into.vertices.insert(into.vertices.end(), part.vertices.begin(), part.vertices.end());
+  into.faces.reserve(into.faces.size() + part.faces.size());
+  for (const auto& f : part.faces) into.faces.push_back({f[0] + shift, f[1] + shift, f[2] + shift});
+}
+
+}  // namespace steady::io

@@ -1,0 +1,395 @@
+// steady::io meshes: round trips in every format, polygon files, read errors, atomic writes.
+
+#include <steady/io/mesh.hpp>
+
+#include <steady/core/error.hpp>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+using steady::Error;
+using steady::ErrorCode;
+using steady::io::MeshWriteOptions;
+using steady::io::TriangleMesh;
+
+namespace {
+
+// A fresh directory per test, removed afterwards.
+class MeshIo : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::string tmpl = (fs::temp_directory_path() / "steady_io_test_XXXXXX").string();
+    ASSERT_NE(::mkdtemp(tmpl.data()), nullptr);
+    dir_ = tmpl;
+  }
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::vector<std::string> entries() const {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir_)) names.push_back(e.path().filename().string());
+    return names;
+  }
+  void writeText(const std::string& name, const std::string& text) const {
+    std::ofstream out(path(name), std::ios::binary);
+    out << text;
+  }
+  static std::string readText(const std::string& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  }
+  fs::path dir_;
+};
+
+// A closed, outward-oriented triangulated box with coordinates that are not exact in binary
+// (0.1, 1/3), a large and a small magnitude; vertices listed in order of first use by the
+// faces, so that STL's merging of equal corners gives back the same order.
+TriangleMesh awkwardBox() {
+  const double x0 = -0.1, x1 = 1.0 / 3.0, y0 = -2.5e6, y1 = 1.25e6, z0 = 1e-5, z1 = 7.75;
+  TriangleMesh m;
+  m.vertices = {{x0, y0, z0}, {x0, y1, z0}, {x1, y1, z0}, {x1, y0, z0},
+                {x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1}};
+  m.faces = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}, {0, 3, 5}, {0, 5, 4},
+             {2, 1, 7}, {2, 7, 6}, {3, 2, 6}, {3, 6, 5}, {0, 4, 7}, {0, 7, 1}};
+  return m;
+}
+
+// OpenMesh 9's readers hold coordinates as 32-bit floats: agreement to float precision.
+void expectNear(const Eigen::Vector3d& got, const Eigen::Vector3d& want, const std::string& what) {
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NEAR(got(k), want(k), 1.2e-7 * std::abs(want(k)) + 1e-300) << what << " coordinate " << k;
+}
+
+void expectSameMesh(const TriangleMesh& got, const TriangleMesh& want) {
+  ASSERT_EQ(got.vertices.size(), want.vertices.size());
+  ASSERT_EQ(got.faces.size(), want.faces.size());
+  for (std::size_t i = 0; i < want.vertices.size(); ++i) expectNear(got.vertices[i], want.vertices[i], "vertex " + std::to_string(i));
+  for (std::size_t i = 0; i < want.faces.size(); ++i) EXPECT_EQ(got.faces[i], want.faces[i]) << "face " << i;
+}
+
+struct Case {
+  const char* ext;
+  bool binary;
+};
+
+class MeshRoundTrip : public MeshIo, public ::testing::WithParamInterface<Case> {};
+
+TEST_P(MeshRoundTrip, ReadsBackWhatWasWritten) {
+  const Case c = GetParam();
+  const TriangleMesh box = awkwardBox();
+  const std::string file = path(std::string("box.") + c.ext);
+  MeshWriteOptions options;
+  options.binary = c.binary;
+  steady::io::writeMesh(file, box, options);
+  EXPECT_EQ(entries(), std::vector<std::string>{std::string("box.") + c.ext}) << "no temporary file is left";
+  const TriangleMesh back = steady::io::readMesh(file);
+  expectSameMesh(back, box);  // STL too: corners merged in order of first appearance
+
+  const std::string text = readText(file);
+  if (std::string(c.ext) == "stl" && c.binary) {
+    EXPECT_EQ(text.size(), 84u + 50u * box.faces.size());
+    EXPECT_NE(text.rfind("solid", 0), 0u) << "a binary STL header must not start with 'solid'";
+  }
+  if (std::string(c.ext) == "ply") {
+    EXPECT_NE(text.find(c.binary ? "format binary_little_endian 1.0" : "format ascii 1.0"), std::string::npos);
+  }
+}
+
+TEST_F(MeshIo, TextFormatsKeepEveryDigit) {
+  // What steady writes is exact (the shortest decimal that reads back to the same double), even
+  // though OpenMesh reads it back to float precision.
+  for (const char* name : {"box.off", "box.obj", "box.ply", "box.stl"}) {
+    steady::io::writeMesh(path(name), awkwardBox());
+    const std::string text = readText(path(name));
+    EXPECT_NE(text.find("0.3333333333333333"), std::string::npos) << name;
+    EXPECT_NE(text.find("-2500000"), std::string::npos) << name;
+    EXPECT_NE(text.find("1e-05"), std::string::npos) << name;
+  }
+}
+
+TEST_F(MeshIo, BinaryPlyHoldsExactDoubles) {
+  const TriangleMesh box = awkwardBox();
+  steady::io::writeMesh(path("box.ply"), box, MeshWriteOptions{true});
+  const std::string text = readText(path("box.ply"));
+  const std::string end = "end_header\n";
+  const std::size_t start = text.find(end) + end.size();
+  ASSERT_EQ(text.size(), start + box.vertices.size() * 24 + box.faces.size() * 13);
+  for (std::size_t i = 0; i < box.vertices.size(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      double x = 0;
+      std::memcpy(&x, text.data() + start + 24 * i + 8 * static_cast<std::size_t>(k), 8);  // the test host is little endian
+      EXPECT_EQ(x, box.vertices[i](k));
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(AllFormats, MeshRoundTrip,
+                         ::testing::Values(Case{"off", false}, Case{"obj", false}, Case{"ply", false}, Case{"ply", true},
+                                           Case{"stl", false}, Case{"stl", true}),
+                         [](const ::testing::TestParamInfo<Case>& p) {
+                           return std::string(p.param.ext) + (p.param.binary ? "_binary" : "_text");
+                         });
+
+TEST_F(MeshIo, UpperCaseExtensionsAreKnown) {
+  steady::io::writeMesh(path("BOX.OFF"), awkwardBox());
+  expectSameMesh(steady::io::readMesh(path("BOX.OFF")), awkwardBox());
+  EXPECT_EQ(steady::io::meshFormatOf("a/b.Ply"), steady::io::MeshFormat::Ply);
+}
+
+TEST_F(MeshIo, PolygonsBecomeTriangleFans) {
+  writeText("poly.off",
+            "OFF\n6 2 0\n0 0 0\n1 0 0\n2 1 0\n1 2 0\n0 1 0\n0 0 1\n5 0 1 2 3 4\n3 0 4 5\n");
+  const TriangleMesh m = steady::io::readMesh(path("poly.off"));
+  ASSERT_EQ(m.vertices.size(), 6u);
+  const std::vector<std::array<int, 3>> want = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 5}};
+  EXPECT_EQ(m.faces, want);
+}
+
+TEST_F(MeshIo, ObjWithTextureAndNormalIndicesAndQuads) {
+  writeText("q.obj",
+            "# a unit square as one quad, and a triangle\n"
+            "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\n"
+            "f 1/1/1 2/2/1 3/3/1 4/4/1\nf 1//1 3//1 4//1\n");
+  const TriangleMesh m = steady::io::readMesh(path("q.obj"));
+  ASSERT_EQ(m.vertices.size(), 4u);
+  const std::vector<std::array<int, 3>> want = {{0, 1, 2}, {0, 2, 3}, {0, 2, 3}};
+  EXPECT_EQ(m.faces, want);
+}
+
+TEST_F(MeshIo, NonManifoldFacesAreKeptAsTheyAre) {
+  // Three triangles on one edge: OpenMesh's half-edge mesh would split them, steady keeps them.
+  writeText("fan.off", "OFF\n5 3 0\n0 0 0\n1 0 0\n0 1 0\n0 -1 0\n0 0 1\n3 0 1 2\n3 1 0 3\n3 0 1 4\n");
+  const TriangleMesh m = steady::io::readMesh(path("fan.off"));
+  EXPECT_EQ(m.vertices.size(), 5u);
+  EXPECT_EQ(m.faces.size(), 3u);
+}
+
+TEST_F(MeshIo, BundledMeshesAreClosedAndOutward) {
+  for (const char* name : {"tetrahedron.off", "box.off"}) {
+    const TriangleMesh m = steady::io::readMesh(std::string(STEADY_DATA_DIR) + "/meshes/" + name);
+    // Closed and outward: the divergence theorem gives a positive volume, and every edge is
+    // used once in each direction.
+    double volume = 0;
+    std::multiset<std::pair<int, int>> edges;
+    for (const auto& f : m.faces) {
+      volume += m.vertices[static_cast<std::size_t>(f[0])].dot(
+                    m.vertices[static_cast<std::size_t>(f[1])].cross(m.vertices[static_cast<std::size_t>(f[2])])) / 6.0;
+      for (int k = 0; k < 3; ++k) edges.insert({f[static_cast<std::size_t>(k)], f[static_cast<std::size_t>((k + 1) % 3)]});
+    }
+    EXPECT_GT(volume, 0) << name;
+    for (const auto& e : edges) {
+      EXPECT_EQ(edges.count(e), 1u) << name;
+      EXPECT_EQ(edges.count({e.second, e.first}), 1u) << name;
+    }
+  }
+}
+
+// --- read errors ---
+
+void expectError(const std::function<void()>& f, ErrorCode code, const std::vector<std::string>& parts) {
+  try {
+    f();
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), code) << e.what();
+    for (const auto& p : parts) EXPECT_NE(std::string(e.what()).find(p), std::string::npos) << "'" << p << "' not in: " << e.what();
+  }
+}
+
+TEST_F(MeshIo, ReadMissingFileIsIo) {
+  expectError([&] { steady::io::readMesh(path("none.off")); }, ErrorCode::Io, {"none.off", "No such file"});
+}
+
+TEST_F(MeshIo, ReadDirectoryIsIo) {
+  fs::create_directory(path("d.stl"));
+  expectError([&] { steady::io::readMesh(path("d.stl")); }, ErrorCode::Io, {"d.stl", "directory"});
+}
+
+TEST_F(MeshIo, ReadUnknownExtensionIsInvalidFile) {
+  writeText("m.xyz", "1 2 3\n");
+  expectError([&] { steady::io::readMesh(path("m.xyz")); }, ErrorCode::InvalidFile, {"m.xyz", "'.xyz'", ".off, .ply, .obj and .stl"});
+  expectError([&] { steady::io::readMesh(path("noext")); }, ErrorCode::InvalidFile, {"no file extension"});
+}
+
+TEST_F(MeshIo, ReadGarbageIsInvalidFile) {
+  writeText("g.off", "this is not an OFF file\n");
+  expectError([&] { steady::io::readMesh(path("g.off")); }, ErrorCode::InvalidFile, {"g.off", "OFF"});
+  writeText("g.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n");
+  expectError([&] { steady::io::readMesh(path("g.ply")); }, ErrorCode::InvalidFile, {"g.ply"});
+  writeText("g.obj", "hello world\n");
+  expectError([&] { steady::io::readMesh(path("g.obj")); }, ErrorCode::InvalidFile, {"g.obj", "no triangle"});
+  writeText("e.stl", "");
+  expectError([&] { steady::io::readMesh(path("e.stl")); }, ErrorCode::InvalidFile, {"e.stl"});
+}
+
+TEST_F(MeshIo, ReadIndexOutOfRangeIsInvalidFile) {
+  writeText("bad.off", "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 1 7\n");
+  expectError([&] { steady::io::readMesh(path("bad.off")); }, ErrorCode::InvalidFile,
+              {"bad.off", "line 7: face 1: corner '7' is not a vertex index in 0..2"});
+  writeText("bad.ply",
+            "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty double z\n"
+            "element face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 9 1\n");
+  expectError([&] { steady::io::readMesh(path("bad.ply")); }, ErrorCode::InvalidFile, {"bad.ply", "face 1 refers to vertex 9"});
+  writeText("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n");
+  expectError([&] { steady::io::readMesh(path("bad.obj")); }, ErrorCode::InvalidFile, {"bad.obj"});
+}
+
+TEST_F(MeshIo, ReadTruncatedFilesIsInvalidFile) {
+  writeText("short.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n");
+  expectError([&] { steady::io::readMesh(path("short.off")); }, ErrorCode::InvalidFile,
+              {"short.off", "the file ends after 1 of the 2 faces it announces"});
+  writeText("few.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n");
+  expectError([&] { steady::io::readMesh(path("few.off")); }, ErrorCode::InvalidFile, {"after 2 of the 4 vertices"});
+  writeText("nan.off", "OFF\n3 1 0\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n");
+  expectError([&] { steady::io::readMesh(path("nan.off")); }, ErrorCode::InvalidFile, {"line 4: expected vertex 1 as three finite numbers"});
+  writeText("comment.off", "OFF\n# a comment\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  expectError([&] { steady::io::readMesh(path("comment.off")); }, ErrorCode::InvalidFile, {"comments"});
+
+  steady::io::writeMesh(path("box.stl"), awkwardBox(), MeshWriteOptions{true});
+  const std::string full = readText(path("box.stl"));
+  writeText("cut.stl", full.substr(0, full.size() - 10));
+  expectError([&] { steady::io::readMesh(path("cut.stl")); }, ErrorCode::InvalidFile,
+              {"cut.stl", "announces 12 triangles (684 bytes) but it has 674 bytes"});
+  steady::io::writeMesh(path("box.ply"), awkwardBox(), MeshWriteOptions{true});
+  const std::string ply = readText(path("box.ply"));
+  writeText("cut.ply", ply.substr(0, ply.size() - 20));
+  expectError([&] { steady::io::readMesh(path("cut.ply")); }, ErrorCode::InvalidFile, {"cut.ply"});
+}
+
+TEST_F(MeshIo, ReadingPrintsNothing) {
+  writeText("bad.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 9\n");
+  ::testing::internal::CaptureStderr();
+  ::testing::internal::CaptureStdout();
+  EXPECT_THROW(steady::io::readMesh(path("bad.off")), Error);
+  EXPECT_EQ(::testing::internal::GetCapturedStdout(), "");
+  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+}
+
+// --- atomic writes ---
+
+TEST_F(MeshIo, WriteIntoMissingDirectoryFailsAndLeavesNothing) {
+  const std::string target = path("no/such/dir/out.ply");
+  expectError([&] { steady::io::writeMesh(target, awkwardBox()); }, ErrorCode::Io, {"out.ply", "No such file or directory"});
+  EXPECT_FALSE(fs::exists(target));
+  EXPECT_TRUE(entries().empty());
+}
+
+TEST_F(MeshIo, WriteOntoDirectoryFailsAndRemovesTheTemporary) {
+  fs::create_directory(path("out.off"));
+  expectError([&] { steady::io::writeMesh(path("out.off"), awkwardBox()); }, ErrorCode::Io, {"out.off"});
+  EXPECT_EQ(entries(), std::vector<std::string>{"out.off"});
+  EXPECT_TRUE(fs::is_directory(path("out.off")));
+}
+
+TEST_F(MeshIo, FailureInTheMiddleLeavesTheOldFile) {
+  // A file size limit makes write() fail part-way (EFBIG): the old file must survive intact and
+  // no temporary may remain.
+  writeText("out.obj", "old content\n");
+  TriangleMesh big;
+  for (int i = 0; i < 2000; ++i) steady::io::append(big, awkwardBox());
+  struct rlimit saved {};
+  ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &saved), 0);
+  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
+  struct rlimit small = saved;
+  small.rlim_cur = 4096;
+  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
+  bool threw = false;
+  try {
+    steady::io::writeMesh(path("out.obj"), big);
+  } catch (const Error& e) {
+    threw = true;
+    EXPECT_EQ(e.code(), ErrorCode::Io);
+    EXPECT_NE(std::string(e.what()).find("out.obj"), std::string::npos) << e.what();
+  }
+  ::setrlimit(RLIMIT_FSIZE, &saved);
+  std::signal(SIGXFSZ, old_handler);
+  EXPECT_TRUE(threw);
+  EXPECT_EQ(readText(path("out.obj")), "old content\n");
+  EXPECT_EQ(entries(), std::vector<std::string>{"out.obj"});
+}
+
+TEST_F(MeshIo, WriteReplacesAnExistingFileCompletely) {
+  writeText("out.off", std::string(100000, 'x'));
+  steady::io::writeMesh(path("out.off"), awkwardBox());
+  expectSameMesh(steady::io::readMesh(path("out.off")), awkwardBox());
+  EXPECT_EQ(entries(), std::vector<std::string>{"out.off"});
+}
+
+TEST_F(MeshIo, WriteInTheCurrentDirectory) {
+  const fs::path cwd = fs::current_path();
+  fs::current_path(dir_);
+  steady::io::writeMesh("here.stl", awkwardBox(), MeshWriteOptions{true});
+  fs::current_path(cwd);
+  EXPECT_EQ(steady::io::readMesh(path("here.stl")).faces.size(), 12u);
+}
+
+TEST_F(MeshIo, InvalidWritesAreRefusedBeforeTouchingTheDisk) {
+  writeText("keep.ply", "old\n");
+  TriangleMesh bad_index = awkwardBox();
+  bad_index.faces.push_back({0, 1, 8});
+  expectError([&] { steady::io::writeMesh(path("keep.ply"), bad_index); }, ErrorCode::InvalidArgument, {"face 12 refers to vertex 8"});
+  TriangleMesh nan = awkwardBox();
+  nan.vertices[3].y() = std::nan("");
+  expectError([&] { steady::io::writeMesh(path("keep.ply"), nan); }, ErrorCode::NonFinite, {"vertex 3"});
+  TriangleMesh huge = awkwardBox();
+  huge.vertices[2].x() = 1e300;
+  expectError([&] { steady::io::writeMesh(path("x.stl"), huge, MeshWriteOptions{true}); }, ErrorCode::NonFinite, {"float range"});
+  expectError([&] { steady::io::writeMesh(path("x.obj"), awkwardBox(), MeshWriteOptions{true}); }, ErrorCode::InvalidArgument,
+              {".ply and .stl"});
+  expectError([&] { steady::io::writeMesh(path("x.vtk"), awkwardBox()); }, ErrorCode::InvalidArgument, {"'.vtk'"});
+  EXPECT_EQ(readText(path("keep.ply")), "old\n");
+  EXPECT_EQ(entries(), std::vector<std::string>{"keep.ply"});
+}
+
+TEST_F(MeshIo, EmptyMeshWritesValidFiles) {
+  for (const char* name : {"e.off", "e.obj", "e.ply", "e.stl"}) {
+    steady::io::writeMesh(path(name), TriangleMesh{});
+    EXPECT_TRUE(fs::exists(path(name)));
+  }
+}
+
+// --- helpers ---
+
+TEST(MeshHelpers, TransformedMapsVerticesAndKeepsFaces) {
+  const TriangleMesh box = awkwardBox();
+  const steady::Affine3 pose = steady::Affine3::translation({1, 2, 3}) * steady::Affine3::rotation({0, 0, 1}, 0.5) *
+                               steady::Affine3::scaling({2, 1, 0.5});
+  const TriangleMesh moved = steady::io::transformed(box, pose);
+  ASSERT_EQ(moved.vertices.size(), box.vertices.size());
+  EXPECT_EQ(moved.faces, box.faces);
+  for (std::size_t i = 0; i < box.vertices.size(); ++i)
+    EXPECT_LT((moved.vertices[i] - (pose.linear() * box.vertices[i] + pose.translation())).norm(), 1e-9);
+}
+
+TEST(MeshHelpers, AppendShiftsIndicesWithoutWelding) {
+  TriangleMesh into = awkwardBox();
+  const TriangleMesh part = awkwardBox();
+  steady::io::append(into, part);
+  ASSERT_EQ(into.vertices.size(), 16u);
+  ASSERT_EQ(into.faces.size(), 24u);
+  EXPECT_EQ(into.vertices[8], part.vertices[0]);
+  EXPECT_EQ(into.faces[12], (std::array<int, 3>{8, 9, 10}));
+  TriangleMesh empty;
+  steady::io::append(empty, part);
+  EXPECT_EQ(empty.faces, part.faces);
+}
+
+}  // namespace
