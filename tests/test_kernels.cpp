@@ -4,6 +4,7 @@
 
 #include "kernels.hpp"
 
+#include <boost/math/constants/constants.hpp>
 #include <boost/multiprecision/cpp_bin_float.hpp>
 #include <gtest/gtest.h>
 
@@ -159,27 +160,98 @@ TEST(Kernels, PhiMomentsBothRecurrenceDirections) {
   }
 }
 
-TEST(Kernels, DepressedCubicRoots) {
-  std::mt19937_64 rng(3);
-  std::uniform_real_distribution<double> u(-3, 3);
-  for (int i = 0; i < 2000; ++i) {
-    // Three real roots summing to zero.
-    const double r0 = u(rng), r1 = u(rng), r2 = -r0 - r1;
-    const double P = r0 * r1 + r0 * r2 + r1 * r2, Q = -r0 * r1 * r2;
-    auto c = steady::detail::depressedCubic(P, Q);
-    ASSERT_TRUE(c.real3 || std::abs(c.y[2]) < 1e-6);
-    std::vector<double> want = {r0, r1, r2};
-    std::sort(want.rbegin(), want.rend());
-    if (c.real3) {
-      for (int k = 0; k < 3; ++k) EXPECT_NEAR(c.y[k], want[k], 1e-7) << i;  // double roots: sqrt(eps)
+namespace {
+
+// The real roots of y^3 + P y + Q (exact double inputs) in 50 digits: trigonometric form for
+// three real roots, Cardano otherwise, each polished by Newton's method.
+std::vector<HP> referenceCubicRoots(double P_, double Q_) {
+  const HP P = P_, Q = Q_;
+  const HP disc = Q * Q / 4 + P * P * P / 27;
+  std::vector<HP> ys;
+  if (disc > 0) {
+    const HP sq = sqrt(disc);
+    const HP a = -Q / 2 + sq, b = -Q / 2 - sq;
+    auto cbrtHP = [](const HP& x) { return x >= 0 ? HP(pow(x, HP(1) / 3)) : HP(-pow(-x, HP(1) / 3)); };
+    ys.push_back(cbrtHP(a) + cbrtHP(b));
+  } else {
+    const HP m = sqrt(-P / 3);
+    const HP arg = -Q / (2 * m * m * m);
+    const HP th = acos(arg > 1 ? HP(1) : (arg < -1 ? HP(-1) : arg)) / 3;
+    const HP pi = boost::math::constants::pi<HP>();
+    for (int k = 0; k < 3; ++k) ys.push_back(2 * m * cos(th - 2 * pi * k / 3));
+  }
+  for (HP& y : ys)
+    for (int i = 0; i < 8; ++i) {
+      const HP df = 3 * y * y + P;
+      if (df == 0) break;
+      y -= ((y * y + P) * y + Q) / df;
     }
-    // A real root and a complex pair x +- i w with 2x + r = 0.
+  return ys;
+}
+
+}  // namespace
+
+TEST(Kernels, DominantCubicRootAcrossRegimeBorders) {
+  // Inputs on both sides of every switch of dominantCubicRoot: the discriminant border k = 2
+  // for P < 0 (three real roots / Cardano) and for P > 0 (polynomial in k^2 / Cardano), with
+  // k = |Q| / (|P|/3)^(3/2); near P = 0 and Q = 0; at several scales. Plus inputs built from
+  // random roots (three real summing to 0, or a real root and a complex pair).
+  std::vector<std::pair<double, double>> pq;
+  for (double scale : {1e-6, 1.0, 3.0, 1e5}) {
+    for (double sgnP : {-1.0, 1.0}) {
+      const double P = sgnP * scale * scale;
+      const double R3 = std::pow(scale * scale / 3.0, 1.5);
+      for (double k : {0.0, 1e-9, 0.3, 1.0, 1.9, 2.0 * (1 - 1e-6), 2.0 * (1 - 1e-12), 2.0, 2.0 * (1 + 1e-12),
+                       2.0 * (1 + 1e-6), 2.1, 5.0, 1e3, 1e9})
+        for (double sgnQ : {-1.0, 1.0}) pq.push_back({P, sgnQ * k * R3});
+    }
+    pq.push_back({0.0, scale * scale * scale});
+    pq.push_back({1e-20 * scale * scale, -scale * scale * scale});
+  }
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-3, 3);
+  for (int i = 0; i < 3000; ++i) {
+    const double r0 = u(rng), r1 = u(rng), r2 = -r0 - r1;
+    pq.push_back({r0 * r1 + r0 * r2 + r1 * r2, -r0 * r1 * r2});
     const double x = u(rng), w = std::abs(u(rng)) + 1e-3, r = -2 * x;
-    const double Pc = x * x + w * w + 2 * x * r, Qc = -r * (x * x + w * w);
-    c = steady::detail::depressedCubic(Pc, Qc);
-    ASSERT_FALSE(c.real3) << i;
-    EXPECT_NEAR(c.y[0], r, 1e-12 * (1 + std::abs(r)));
-    EXPECT_NEAR(c.y[1], x, 1e-12 * (1 + std::abs(x)));
-    EXPECT_NEAR(c.y[2], w, 1e-10 * (1 + std::abs(w)) / w);
+    pq.push_back({x * x + w * w + 2 * x * r, -r * (x * x + w * w)});
+  }
+  for (const auto& [P, Q] : pq) {
+    const std::vector<HP> ys = referenceCubicRoots(P, Q);
+    HP want = ys[0];
+    for (const HP& y : ys)
+      if (abs(y) > abs(want) || (abs(y) == abs(want) && y > want)) want = y;
+    const auto got = steady::detail::dominantCubicRoot(P, Q);
+    const double tiny = 1e-300;
+    EXPECT_LE(relErr(got.y, want, tiny), 4 * kEps) << "P=" << P << " Q=" << Q;
+    // The deflated pair: real (d2 >= 0) exactly when there are three real roots, up to the
+    // sqrt(eps) splitting of a double root.
+    const double scaleY = std::abs(got.y) + 1e-300;
+    if (ys.size() == 3) {
+      EXPECT_GE(got.d2, -1e-14 * scaleY * scaleY) << "P=" << P << " Q=" << Q;
+    } else {
+      EXPECT_LE(got.d2, 1e-14 * scaleY * scaleY) << "P=" << P << " Q=" << Q;
+    }
+  }
+}
+
+TEST(Kernels, AtanRatioAgainstClosedForms) {
+  // F(zeta) = atan(sqrt zeta)/sqrt zeta (zeta > 0), atanh(sqrt -zeta)/sqrt -zeta (zeta < 0), on a
+  // grid, near 0, and at both ends of its interval [-1/4, 1] (where logBlock2 switches to
+  // atan2 / log1p).
+  std::vector<double> zs = {0.0, 1e-300, -1e-300, 1e-17, -1e-17, 1e-8, -1e-8, 1e-3, -1e-3};
+  for (double end : {steady::detail::kAtanRatioMin, steady::detail::kAtanRatioMax})
+    for (double d : {-1e-9, -1e-15, 0.0}) zs.push_back(end + (end > 0 ? d : -d));
+  for (int i = 0; i <= 2000; ++i) zs.push_back(-0.25 + 1.25 * i / 2000.0);
+  for (double z : zs) {
+    HP want = 1;
+    if (z > 0) {
+      const HP s = sqrt(HP(z));
+      want = atan(s) / s;
+    } else if (z < 0) {
+      const HP s = sqrt(HP(-z));
+      want = atanh(s) / s;
+    }
+    EXPECT_LE(relErr(steady::detail::atanRatio(z), want, 0), 2 * kEps) << "zeta=" << z;
   }
 }

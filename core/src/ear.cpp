@@ -5,7 +5,8 @@
 //  1. Screen non-finite input and det L <= 0.
 //  2. 2D: the block kernel logBlock2 gives log L = alpha 1 + beta N (N = L - r 1, N^2 = d 1).
 //     3D: eigenvalues of L from the depressed cubic of E = L - 1 (working with E keeps full
-//     relative accuracy near the identity). If the three eigenvalues agree within 2%, the log is
+//     relative accuracy near the identity); only its root of largest magnitude is solved for
+//     (kernels.cpp, dominantCubicRoot). If the three eigenvalues agree within 2%, the log is
 //     the series of log(1 + N) around their mean (TripleEigenvalue). Otherwise a simple positive
 //     eigenvalue mu is split off with its right/left eigenvectors: L = mu P + W L2 W^T Pi, and
 //     the remaining 2D block L2 goes to logBlock2.
@@ -30,7 +31,6 @@ namespace {
 
 using detail::BlockCoefficients;
 using detail::CoshSinhc;
-using detail::CubicRoots;
 
 constexpr double kPi = 3.14159265358979323846;
 // Relative eigenvalue spread below which the 3D logarithm uses the series about the mean
@@ -72,7 +72,10 @@ std::string fmt(double x) {
 
 template <int D>
 bool screen(const Affine<D>& A, Failure& fail) {
-  if (!A.isFinite()) {
+  // x - x is 0 for a finite x and NaN otherwise, so the sum is NaN exactly when some entry is
+  // not finite: one test instead of one per entry (the same answer as Affine::isFinite).
+  const double zeros = (A.linear() - A.linear()).sum() + (A.translation() - A.translation()).sum();
+  if (std::isnan(zeros)) {
     fail = {ErrorCode::NonFinite,
             "the affinity has NaN or infinite entries; check how the pose was computed or parsed"};
     return false;
@@ -104,27 +107,32 @@ struct Block2Log {
   double alpha = 0, beta = 0, d = 0;
   Eigen::Matrix2d N = Eigen::Matrix2d::Zero();
   LinearCase label = LinearCase::DistinctReal;
-  // Data of L2 itself: L2 - 1 = r1 1 + N (or r1 1 for a half turn), det(L2 - 1), and the
-  // eigenvalue offsets lambda - 1 (re +- i im) for the labels.
-  double r1 = 0, detE = 0, s1 = 0;
+  // Data of L2 itself: L2 - 1 = r1 1 + sigma N with sigma = 1 (sigma = 0 for a half turn, whose
+  // N is not a part of L2), det(L2 - 1), and the eigenvalue offsets lambda - 1 (re +- i im) for
+  // the labels. s1 = sigma / beta is the N coefficient of L2 - 1 in terms of beta N.
+  double r1 = 0, detE = 0, sigma = 1, s1 = 0;
   double re[2] = {0, 0}, im[2] = {0, 0};
 
   double eta() const { return beta * beta * d; }
-
-  /// phi(log L2)^-1 = p 1 + q (beta N). For a well-conditioned log block X (Frobenius condition
-  /// number below kViaInverseCondition) it is X (L2 - 1)^-1, read off the known L2 - 1 =
-  /// c1 1 + s1 X_N with det(L2 - 1) = detE; otherwise the inverse of phiBlock's phi(X).
+  /// phi(log L2)^-1 = p 1 + q N (q multiplies N itself, not beta N). For a well-conditioned log
+  /// block X (Frobenius condition number below kViaInverseCondition) it is X (L2 - 1)^-1 =
+  /// (alpha + beta N)(r1 - sigma N) / det(L2 - 1), using N^2 = d; otherwise the inverse of
+  /// phiBlock's phi(X) = p' + q' beta N.
   BlockCoefficients phiInverseOfLog() const {
     const double eta_ = eta();
     if (wellConditionedBlock(alpha, eta_, beta * beta * N.squaredNorm()) && std::abs(detE) > 1e-280)
-      return {(alpha * r1 - s1 * eta_) / detE, (r1 - alpha * s1) / detE};
+      return {(alpha * r1 - sigma * beta * d) / detE, (beta * r1 - sigma * alpha) / detE};
     const BlockCoefficients pq = detail::phiBlock(alpha, eta_, r1, s1, detE);
     const double den = pq.p * pq.p - pq.q * pq.q * eta_;
-    return {pq.p / den, -pq.q / den};
+    return {pq.p / den, -pq.q * beta / den};
   }
 };
 
-bool logBlock2(const Eigen::Matrix2d& E, const EarOptions& opt, Block2Log& out, Failure& fail) {
+void failNegativePair(double r, double sq, double nnorm, const EarOptions& opt, Failure& fail);
+
+// orient = +-1: the half-turn quarter turn is orient times the counter-clockwise one of the
+// block's basis (3D: -1 when that basis is oriented against the canonical normal of the plane).
+bool logBlock2(const Eigen::Matrix2d& E, const EarOptions& opt, Block2Log& out, Failure& fail, double orient = 1.0) {
   const double r1 = 0.5 * (E(0, 0) + E(1, 1));
   const double r = 1.0 + r1;
   const double h = 0.5 * (E(0, 0) - E(1, 1));
@@ -138,7 +146,6 @@ bool logBlock2(const Eigen::Matrix2d& E, const EarOptions& opt, Block2Log& out, 
     fail = {ErrorCode::Singular, "a 2D block of the linear part is numerically singular"};
     return false;
   }
-  out.alpha = 0.5 * std::log1p(detm1);
   out.r1 = r1;
   out.detE = E.determinant();
   const double sq = std::sqrt(std::abs(d));  // |eigenvalue - r|
@@ -156,40 +163,55 @@ bool logBlock2(const Eigen::Matrix2d& E, const EarOptions& opt, Block2Log& out, 
     // S2: a half turn with uniform scale sqrt(det): log = ln k 1 + pi (+-J).
     Eigen::Matrix2d J;
     J << 0.0, -1.0, 1.0, 0.0;
-    out.N = opt.half_turn == HalfTurn::CounterClockwise ? J : Eigen::Matrix2d(-J);
+    out.N = (opt.half_turn == HalfTurn::CounterClockwise ? orient : -orient) * J;
+    out.alpha = 0.5 * std::log1p(detm1);
     out.beta = kPi;
     out.d = -1.0;
     out.s1 = 0.0;  // e^{pi J} = -1: no N component
+    out.sigma = 0.0;
     out.label = LinearCase::HalfTurn;
     return true;
   }
   out.N = N;
   out.d = d;
-  if (d < 0) {
+  // beta is on the longest dependency chain of the log, alpha (log1p) is not: beta first.
+  // For r > 0 and zeta = -d / r^2 in [-1/4, 1] (a complex pair r +- i w with w <= r, i.e. at
+  // most 45 degrees from the positive axis, or real eigenvalues with l1 <= 3 l2: most blocks,
+  // and every block near the identity or near a double eigenvalue) beta = F(zeta) / r with the
+  // polynomial atanRatio, which needs no square root and no atan2 or log1p. Outside, the closed
+  // forms below; on both sides of these borders both are accurate to a few ulp.
+  const double zeta = -d / (r * r);
+  if (r > 0 && zeta >= detail::kAtanRatioMin && zeta <= detail::kAtanRatioMax) {
+    out.beta = detail::atanRatio(zeta) / r;
+    out.label = d < 0 ? (4.0 * sq * sq <= ctol * ctol * det ? LinearCase::DoubleEigenvalue : LinearCase::ComplexPair)
+                      : (2.0 * sq <= ctol * (r + sq) ? LinearCase::DoubleEigenvalue : LinearCase::DistinctReal);
+  } else if (d < 0) {
     // Complex pair r +- i w: beta = theta / w with theta = atan2(w, r) in (0, pi).
     const double w = sq;
     out.beta = std::atan2(w, r) / w;
-    out.s1 = 1.0 / out.beta;
     // |lambda| = sqrt(det): a double eigenvalue when 2 w <= ctol sqrt(det).
     out.label = r > 0 && 4.0 * w * w <= ctol * ctol * det ? LinearCase::DoubleEigenvalue : LinearCase::ComplexPair;
-    return true;
-  }
-  if (r > 0) {
-    // Two positive eigenvalues r +- s: beta = atanh(s / r) / s = ln(l1 / l2) / (l1 - l2).
+  } else if (r > 0) {
+    // Two positive eigenvalues l1,2 = r +- s with s > r/2 (z = s/r > 1/2, else atanRatio):
+    // beta = ln(l1 / l2) / (l1 - l2) = log1p(2 s / l2) / (2 s). l2 = 1 + (r1 - s) is accurate to
+    // an ulp while l2 >= 1/2; below, where that sum would cancel, l2 = det / l1 has no
+    // cancellation.
     const double s = sq;
-    const double z = s / r;
-    if (z < 1e-8)
-      out.beta = (1.0 + z * z / 3.0) / r;
-    else if (z < 0.5)
-      out.beta = std::atanh(z) / s;
-    else {
-      const double l1 = r + s, l2 = det / l1;
-      out.beta = std::log(l1 / l2) / (2.0 * s);
-    }
-    out.s1 = 1.0 / out.beta;
+    const double l2 = r1 - s > -0.5 ? 1.0 + (r1 - s) : det / (r + s);
+    out.beta = std::log1p(2.0 * s / l2) / (2.0 * s);
     out.label = 2.0 * s <= ctol * (r + s) ? LinearCase::DoubleEigenvalue : LinearCase::DistinctReal;
-    return true;
+  } else {
+    failNegativePair(r, sq, N.norm(), opt, fail);
+    return false;
   }
+  out.alpha = 0.5 * std::log1p(detm1);
+  out.s1 = 1.0 / out.beta;
+  return true;
+}
+
+// The failure of logBlock2 for a block with negative trace that is not a half turn.
+void failNegativePair(double r, double sq, double nnorm, const EarOptions& opt, Failure& fail) {
+  const double ctol = opt.case_tolerance;
   const double s = sq;
   if (s > ctol * -r)
     fail = {ErrorCode::NoRealLog,
@@ -198,11 +220,11 @@ bool logBlock2(const Eigen::Matrix2d& E, const EarOptions& opt, Block2Log& out, 
                 "), so it has no real logarithm and no SAM connects these poses; insert an "
                 "intermediate pose (for example the pose half-way along another interpolation) "
                 "and use two SAM spans"};
-  else if (N.norm() <= ctol * -r)
+  else if (nnorm <= ctol * -r)
     fail = {ErrorCode::NoRealLog,
             "the linear part is nearly a half turn but has two slightly different negative "
             "eigenvalues (" + fmt(r + s) + ", " + fmt(r - s) + ", relative deviation " +
-                fmt(N.norm() / -r) + " above EarOptions::half_turn_tolerance = " +
+                fmt(nnorm / -r) + " above EarOptions::half_turn_tolerance = " +
                 fmt(opt.half_turn_tolerance) +
                 "), so it has no real logarithm; if an exact half turn is meant, make the two "
                 "scalings equal or raise the tolerance, otherwise insert an intermediate pose"};
@@ -212,7 +234,6 @@ bool logBlock2(const Eigen::Matrix2d& E, const EarOptions& opt, Block2Log& out, 
                 " in a Jordan block (a half turn combined with a shear), so it has no real "
                 "logarithm and no SAM connects these poses; insert an intermediate pose and use "
                 "two SAM spans"};
-  return false;
 }
 
 // Label of the translation part from the eigenvalue offsets lambda_k - 1 (as complex numbers).
@@ -221,11 +242,10 @@ TranslationCase translationCase(const double (&re)[3], const double (&im)[3], do
                                 const typename Affine<D>::Linear& E, double ctol) {
   int count = 0;
   const double tol = ctol * std::max(1.0, lmax);
-  for (int k = 0; k < D; ++k)
-    if (re[k] * re[k] + im[k] * im[k] <= tol * tol) ++count;
-  const double emax = E.cwiseAbs().maxCoeff();
+  for (int k = 0; k < D; ++k) count += re[k] * re[k] + im[k] * im[k] <= tol * tol ? 1 : 0;
   if (count == 0) return TranslationCase::FixedPoint;
   if (count == 1) return TranslationCase::Eigen1Semisimple;
+  const double emax = E.cwiseAbs().maxCoeff();
   if (count == D) return emax <= tol ? TranslationCase::PureTranslation : TranslationCase::Eigen1Defective;
   // D = 3, double eigenvalue 1: semisimple iff rank E = 1 iff every 2x2 minor of E vanishes.
   Eigen::Matrix3d E3 = Eigen::Matrix3d::Zero();
@@ -267,12 +287,64 @@ int seriesTerms(double rho) {
   return 60;
 }
 
-Eigen::Vector3d orthogonalTo(const Eigen::Vector3d& n) {
-  // A unit vector orthogonal to the unit vector n, continuous except where n_z changes sign.
-  const double sign = std::copysign(1.0, n.z());
-  const double a = -1.0 / (sign + n.z());
-  const double b = n.x() * n.y() * a;
-  return Eigen::Vector3d(1.0 + sign * n.x() * n.x() * a, sign * b, -sign * n.x());
+// Right (e: K e = 0) and left (f: f^T K = 0) null vectors of a 3x3 matrix K of rank 2, as the
+// largest cross products of two rows, respectively two columns, of K. These six cross products
+// are the rows and the columns of the cofactor matrix C of K (row i of C = the cross product of
+// the other two rows, in cyclic order; column j likewise for the columns), so the nine cofactors
+// give both. Only the directions matter to the caller, not the signs or lengths.
+inline void nullVectors(const Eigen::Matrix3d& K, Eigen::Vector3d& e, Eigen::Vector3d& f) {
+  const double k00 = K(0, 0), k01 = K(0, 1), k02 = K(0, 2);
+  const double k10 = K(1, 0), k11 = K(1, 1), k12 = K(1, 2);
+  const double k20 = K(2, 0), k21 = K(2, 1), k22 = K(2, 2);
+  const double c00 = k11 * k22 - k12 * k21, c01 = k12 * k20 - k10 * k22, c02 = k10 * k21 - k11 * k20;
+  const double c10 = k21 * k02 - k22 * k01, c11 = k22 * k00 - k20 * k02, c12 = k20 * k01 - k21 * k00;
+  const double c20 = k01 * k12 - k02 * k11, c21 = k02 * k10 - k00 * k12, c22 = k00 * k11 - k01 * k10;
+  const double s00 = c00 * c00, s01 = c01 * c01, s02 = c02 * c02;
+  const double s10 = c10 * c10, s11 = c11 * c11, s12 = c12 * c12;
+  const double s20 = c20 * c20, s21 = c21 * c21, s22 = c22 * c22;
+  const double r0 = s00 + s01 + s02, r1 = s10 + s11 + s12, r2 = s20 + s21 + s22;
+  const double q0 = s00 + s10 + s20, q1 = s01 + s11 + s21, q2 = s02 + s12 + s22;
+  // The row and the column of largest norm (the last one on ties) are selected with one-hot
+  // weights, exactly 0 or 1: which one wins is data-dependent, and a branch on it would be
+  // mispredicted about half of the time (an indexed load instead was slower still).
+  const bool e2 = r2 >= std::max(r0, r1), e1 = !e2 && r1 >= r0;
+  const bool f2 = q2 >= std::max(q0, q1), f1 = !f2 && q1 >= q0;
+  const double we1 = e1, we2 = e2, we0 = 1.0 - we1 - we2;
+  const double wf1 = f1, wf2 = f2, wf0 = 1.0 - wf1 - wf2;
+  e = Eigen::Vector3d(we0 * c00 + we1 * c10 + we2 * c20, we0 * c01 + we1 * c11 + we2 * c21,
+                      we0 * c02 + we1 * c12 + we2 * c22);
+  f = Eigen::Vector3d(wf0 * c00 + wf1 * c01 + wf2 * c02, wf0 * c10 + wf1 * c11 + wf2 * c12,
+                      wf0 * c20 + wf1 * c21 + wf2 * c22);
+}
+
+// +1 or -1: the sign of the largest-magnitude coordinate of f (the first such on ties).
+inline double leadingSign(const Eigen::Vector3d& f) {
+  const double a0 = std::abs(f.x()), a1 = std::abs(f.y()), a2 = std::abs(f.z());
+  const double lead01 = a1 > a0 ? f.y() : f.x();
+  const double lead = a2 > std::max(a0, a1) ? f.z() : lead01;
+  return std::copysign(1.0, lead);
+}
+
+// An orthonormal basis (w0, w1) of the plane orthogonal to f != 0 (any length, fn2 = |f|^2),
+// with (w0, w1, f/|f|) right-handed. This is the branch-free frame of Duff et al. ("Building an
+// orthonormal basis, revisited") for the unit normal n = f/|f|: with s = sign(n_z) and
+// a = -1/(s + n_z), b = n_x n_y a,
+//   w0 = (1 + s n_x^2 a, s b, -s n_x),  w1 = (b, s + n_y^2 a, -n_y).
+// Written in f directly, every term shares the factor g = 1 / (|f| (|f| + |f_z|)), so the
+// normalization and the frame cost one square root and one division. Continuous except where
+// f_z changes sign.
+inline Eigen::Matrix<double, 3, 2> planeBasis(const Eigen::Vector3d& f, double fn2) {
+  const double nu = std::sqrt(fn2);
+  const double s = std::copysign(1.0, f.z());
+  const double den = nu + std::abs(f.z());  // |f| + s f_z, no cancellation
+  const double g = 1.0 / (nu * den);
+  const double inu = den * g;  // 1 / |f|
+  const double xy = f.x() * f.y() * g;
+  Eigen::Matrix<double, 3, 2> W;
+  W << 1.0 - f.x() * f.x() * g, -s * xy,
+       -xy, s * (1.0 - f.y() * f.y() * g),
+       -s * f.x() * inu, -f.y() * inu;
+  return W;
 }
 
 // Fills the split form of a span from the parts of the log: M = lam P + alpha Pi + Nt, with
@@ -323,7 +395,7 @@ struct LogWork<2> {
     // u = phi(M)^-1 t.
     const BlockCoefficients gi = b.phiInverseOfLog();
     const Eigen::Vector2d& t = A.translation();
-    log.u = gi.p * t + gi.q * (bN * t);
+    log.u = gi.p * t + gi.q * (b.N * t);
     log.kase.linear = b.label;
     const double re[3] = {b.re[0], b.re[1], 0}, im[3] = {b.im[0], b.im[1], 0};
     const double lmax = 1.0 + std::abs(b.r1) + std::sqrt(std::abs(b.d));
@@ -349,21 +421,25 @@ struct LogWork<3> {
     F.diagonal().array() -= s;  // traceless: eigenvalues y_k = lambda_k - lbar
     const double P = -0.5 * (F.cwiseProduct(F.transpose())).sum();
     const double Q = -F.determinant();
-    const CubicRoots roots = detail::depressedCubic(P, Q);
-    const double* y = roots.y;
-    const double spread = roots.real3 ? std::max(std::abs(y[0]), std::abs(y[2]))
-                                      : std::max(std::abs(y[0]), std::sqrt(y[1] * y[1] + y[2] * y[2]));
+    // The eigenvalue offsets y = lambda - lbar are the roots of y^3 + P y + Q. Only the root of
+    // largest magnitude is solved for (it is the one split off below, and it is simple and well
+    // separated from the others whenever the split is used); the other two follow from the
+    // deflated quadratic, for the labels and the spread.
+    const detail::DominantRoot root = detail::dominantCubicRoot(P, Q);
+    const double y = root.y;
+    const bool realPair = root.d2 >= 0;
+    const double w2 = std::sqrt(std::abs(root.d2));  // half the gap (or imaginary part) of the pair
+    // Largest |y_k|: |y| for three real roots (then P <= 0); for a complex pair of modulus^2 =
+    // y^2/4 - d2 = y^2 + P, the larger of |y| and that modulus.
+    const double spread = std::sqrt(y * y + std::max(P, 0.0));
 
     // Labels from the eigenvalue offsets lambda_k - 1.
     double re[3], im[3] = {0, 0, 0};
-    if (roots.real3) {
-      for (int k = 0; k < 3; ++k) re[k] = s + y[k];
-    } else {
-      re[0] = s + y[0];
-      re[1] = re[2] = s + y[1];
-      im[1] = y[2];
-      im[2] = -y[2];
-    }
+    re[0] = s + y;
+    re[1] = s - 0.5 * y + (realPair ? w2 : 0.0);
+    re[2] = s - 0.5 * y - (realPair ? w2 : 0.0);
+    im[1] = realPair ? 0.0 : w2;
+    im[2] = -im[1];
     log.kase.translation = translationCase<3>(re, im, std::abs(lbar) + spread, E, opt.case_tolerance);
 
     // Series form near a triple eigenvalue: always within 2%, and up to 25% when L is far from
@@ -374,64 +450,72 @@ struct LogWork<3> {
       return seriesForm(F, s, P, Q, spread, t, log, sp);
 
     // Choose the simple positive eigenvalue mu to split off: the real one of a complex pair,
-    // the only positive one, or the most separated of three positive ones.
-    double ymu = y[0];
-    if (roots.real3 && lbar + y[2] > 0 && (y[1] - y[2]) > (y[0] - y[1])) ymu = y[2];
+    // the only positive one, or the most separated of three positive ones. The root of largest
+    // magnitude is all three (of three real roots summing to 0 it is the one farthest from the
+    // middle one). Only when it is negative and lbar + y <= 0 (then two eigenvalues are
+    // negative and distinct: no real log, reported by logBlock2) the largest root is taken.
+    double ymu = y;
+    if (y < 0 && !(lbar + y > 0) && realPair) ymu = -0.5 * y + w2;
     const double muE = s + ymu;  // mu - 1
     if (!(1.0 + muE > 0)) {
       fail = {ErrorCode::NoRealLog, "the linear part has no positive real eigenvalue"};
       return false;
     }
+    // ln mu does not depend on the eigenvectors: started first, it runs while they are computed.
+    const double lam = std::log1p(muE);
     // Right (e) and left (f) eigenvectors of mu from the largest cross products of the rows /
     // columns of K = L - mu 1.
     Eigen::Matrix3d K = F;
     K.diagonal().array() -= ymu;
-    auto largestCross = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-      const Eigen::Vector3d x0 = a.cross(b), x1 = a.cross(c), x2 = b.cross(c);
-      const double n0 = x0.squaredNorm(), n1 = x1.squaredNorm(), n2 = x2.squaredNorm();
-      if (n0 >= n1 && n0 >= n2) return x0;
-      return n1 >= n2 ? x1 : x2;
-    };
-    const Eigen::Vector3d e = largestCross(K.row(0), K.row(1), K.row(2));
-    Eigen::Vector3d f = largestCross(K.col(0), K.col(1), K.col(2));
+    Eigen::Vector3d e, f;
+    nullVectors(K, e, f);
     const double fn2 = f.squaredNorm();
     if (!(fn2 > 0) || !(e.squaredNorm() > 0))
       return seriesForm(F, s, P, Q, spread, t, log, sp);  // unreachable for a simple mu
-    f /= std::sqrt(fn2);
-    // Canonical orientation of the invariant plane (matters for the half-turn convention only).
-    int imax = 0;
-    for (int k = 1; k < 3; ++k)
-      if (std::abs(f(k)) > std::abs(f(imax))) imax = k;
-    if (f(imax) < 0) f = -f;
-    Eigen::Matrix<double, 3, 2> W;
-    W.col(0) = orthogonalTo(f);
-    W.col(1) = f.cross(W.col(0));
+    // f keeps its length and sign: every use below but the plane basis W is invariant under
+    // scaling f, and W only needs to span the plane. (The canonical orientation of the plane
+    // matters for the half-turn convention only; logBlock2 applies it.)
+    const Eigen::Matrix<double, 3, 2> W = planeBasis(f, fn2);
     // P1 = e f^T / (f.e) projects on e along the invariant plane f-perp; Pi = 1 - P1 = W Kp with
     // Kp = W^T - (W^T e) f^T / (f.e). The block of L in the plane is L2 = W^T L W.
     const Eigen::Vector3d ef = e / f.dot(e);
     const Eigen::Matrix<double, 2, 3> Kp = W.transpose() - (W.transpose() * ef) * f.transpose();
     const Eigen::Matrix<double, 3, 2> EW = E * W;
     const Eigen::Matrix2d E2 = W.transpose() * EW;
+    // Everything that needs the block's traceless part N = E2 - r1 1 but not its logarithm is
+    // formed before logBlock2, so that it overlaps with the transcendental functions there:
+    // WNK = W N Kp (M's block part is beta WNK), WNK t, and P1 = ef f^T.
+    // (N exactly as logBlock2 forms it, h = (E00 - E11)/2 on the diagonal: exactly traceless
+    // and consistent with its beta, which near a half turn is large.)
+    const double h2 = 0.5 * (E2(0, 0) - E2(1, 1));
+    Eigen::Matrix2d N2;
+    N2 << h2, E2(0, 1), E2(1, 0), -h2;
+    Eigen::Matrix3d WNK;
+    WNK.noalias() = (W * N2) * Kp;
+    Eigen::Vector3d WNKt = WNK * t;
+    Eigen::Matrix3d P1;
+    P1.noalias() = ef * f.transpose();
+    const double ft = f.dot(t);
     Block2Log b;
-    if (!logBlock2(E2, opt, b, fail)) return false;
+    if (!logBlock2(E2, opt, b, fail, leadingSign(f))) return false;
     log.kase.linear = b.label;
-    const double lam = std::log1p(muE);
-    const Eigen::Matrix<double, 3, 2> WN = W * (b.beta * b.N);
+    if (b.label == LinearCase::HalfTurn) {
+      // Half turn: logBlock2 replaced N by the quarter turn of the plane.
+      WNK.noalias() = (W * b.N) * Kp;
+      WNKt = WNK * t;
+    }
     const double eta = b.eta();
-    // M = lam P1 + alpha Pi + Nt = alpha 1 + (lam - alpha) P1 + WN Kp.
-    log.M.noalias() = WN * Kp;
-    log.M.noalias() += ((lam - b.alpha) * ef) * f.transpose();
+    // M = lam P1 + alpha Pi + beta W N Kp = alpha 1 + (lam - alpha) P1 + beta WNK.
+    log.M = b.beta * WNK + (lam - b.alpha) * P1;
     log.M.diagonal().array() += b.alpha;
-    // u = phi(M)^-1 t = P1 t / phi(lam) + (p Pi + q Nt) t with phi(lam) = (mu - 1) / ln mu and
-    // p + q X = phi(X)^-1 for the block X; Pi t = t - ef (f.t), Nt t = WN (Kp t).
+    // u = phi(M)^-1 t = P1 t / phi(lam) + (p Pi + q W N Kp) t with phi(lam) = (mu - 1) / ln mu
+    // and p + q N = phi(X)^-1 for the block X; Pi t = t - ef (f.t).
     const BlockCoefficients gi = b.phiInverseOfLog();
     const double phiLam = std::abs(lam) < 1e-8 ? detail::phi(lam) : muE / lam;
-    const double ft = f.dot(t);
-    log.u = (ft / phiLam - gi.p * ft) * ef + gi.p * t + gi.q * (WN * (Kp * t));
+    log.u = (ft / phiLam - gi.p * ft) * ef + gi.p * t + gi.q * WNKt;
     if (sp) {
-      const Eigen::Matrix3d P1 = ef * f.transpose();
       const Eigen::Matrix3d Pi = I - P1;  // (= W Kp; this form keeps P1 + Pi = 1 exactly)
-      fillSplit<3>(*sp, lam, b.alpha, eta, b.beta * b.beta * b.N.squaredNorm(), P1, Pi, WN * Kp, log.u);
+      fillSplit<3>(*sp, lam, b.alpha, eta, b.beta * b.beta * b.N.squaredNorm(), P1, Pi, b.beta * WNK, log.u);
     }
     return true;
   }

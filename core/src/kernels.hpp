@@ -38,13 +38,24 @@ BlockCoefficients phiBlock(double a, double eta, double c1, double s1, double de
 /// phiBlock for a block given by (a, eta) alone (computes its exponential first).
 BlockCoefficients phiBlock(double a, double eta);
 
-/// Roots of y^3 + P y + Q = 0. When `real3` is true, y[0] >= y[1] >= y[2] are the three real
-/// roots; otherwise y[0] is the real root and the complex pair is y[1] +- i y[2] (y[2] >= 0).
-struct CubicRoots {
-  bool real3;
-  double y[3];
+/// The real root y of y^3 + P y + Q = 0 of largest magnitude (its sign is that of -Q; for Q = 0
+/// the positive one), without trigonometric functions or a library cube root: a scaled
+/// polynomial in each of two regimes, Cardano's formula with a polynomial cube root in the
+/// third (see kernels.cpp). Relative error at most about 3 ulp. The other two roots are the roots of the
+/// deflated quadratic, -y/2 +- sqrt(d2): a real pair when d2 >= 0, a complex pair
+/// -y/2 +- i sqrt(-d2) otherwise.
+struct DominantRoot {
+  double y, d2;
 };
-CubicRoots depressedCubic(double P, double Q);
+DominantRoot dominantCubicRoot(double P, double Q);
+
+/// F(zeta) = atan(sqrt zeta) / sqrt zeta for zeta >= 0 and atanh(sqrt -zeta) / sqrt -zeta for
+/// zeta < 0 (one analytic function, F(0) = 1), for zeta in [kAtanRatioMin, kAtanRatioMax] =
+/// [-1/4, 1], by a polynomial (within about 1 ulp). The log of a 2x2 block with r = tr/2 > 0
+/// and N^2 = d 1 has beta = F(-d / r^2) / r: for a complex pair r +- i w, atan(w/r)/w; for real
+/// eigenvalues r +- s, atanh(s/r)/s = ln(l1/l2)/(l1 - l2).
+constexpr double kAtanRatioMin = -0.25, kAtanRatioMax = 1.0;
+double atanRatio(double zeta);
 
 /// I_n(a)/n! for n = 0..nmax (nmax <= 64), with I_n(a) = integral_0^1 s^n e^{a s} ds, computed
 /// by the recurrence in its stable direction: forward for n <= a (a > 0), backward otherwise
