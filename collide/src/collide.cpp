@@ -79,6 +79,16 @@ void storeBounds(RTCBounds* b, const Vec& lo, const Vec& hi) {
   b->upper_z = std::nextafter(static_cast<float>(hi.z()), inf);
 }
 
+// Mean over the faces of the largest side of each face's bounding box.
+double meanFaceExtent(const std::vector<Vec>& V, const Faces& F) {
+  double sum = 0;
+  for (const auto& f : F) {
+    const Vec lo = V[f[0]].cwiseMin(V[f[1]]).cwiseMin(V[f[2]]), hi = V[f[0]].cwiseMax(V[f[1]]).cwiseMax(V[f[2]]);
+    sum += (hi - lo).maxCoeff();
+  }
+  return F.empty() ? 0.0 : sum / static_cast<double>(F.size());
+}
+
 // Closest point of triangle (a, b, c) to p (regions of the triangle's Voronoi diagram).
 Vec closestOnTriangle(const Vec& p, const Vec& a, const Vec& b, const Vec& c) {
   const Vec ab = b - a, ac = c - a, ap = p - a;
@@ -173,6 +183,7 @@ struct SceneData {
   std::vector<Vec> normal;  // unit face normals
   std::vector<double> offset;  // normal . x = offset on the face's plane
   double diag = 0;
+  double mean_extent = 0;  // mean over faces of the largest side of the face's box
   Vec lo, hi;  // bounding box
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
@@ -240,6 +251,7 @@ StaticScene::StaticScene(std::vector<Vec> vertices, Faces faces) : impl_(std::ma
     s.offset[f] = s.normal[f].dot(a);
   }
   s.diag = boxDiagonal(s.V);
+  s.mean_extent = meanFaceExtent(s.V, s.F);
   s.lo = s.hi = s.V.front();
   for (const Vec& p : s.V) {
     s.lo = s.lo.cwiseMin(p);
@@ -275,6 +287,7 @@ struct SpanData {
 struct IntervalBoxes {
   std::vector<unsigned> faces;  // moving faces kept (their box meets the static scene's box)
   std::vector<float> box;       // 6 floats per kept face
+  double path_sum = 0;          // sum over kept faces of their largest vertex path radius
   static void bounds(const RTCBoundsFunctionArguments* args) {
     const auto* self = static_cast<const IntervalBoxes*>(args->geometryUserPtr);
     const float* q = &self->box[6 * static_cast<std::size_t>(args->primID)];
@@ -294,8 +307,10 @@ struct Query {
   CollideStats stats;
   std::vector<Vec> mid;      // per vertex: position at the middle of the current interval
   std::vector<double> rad;   // and its path-length radius
-  Vec center;                // centre of the moving mesh's bounding ball (body coordinates)
-  double radius = 0;         // and its radius
+  std::vector<unsigned> placed;  // per vertex: the epoch in which mid/rad were last computed
+  unsigned epoch = 0;
+  double feature = 0;        // typical triangle size of the two meshes (larger mean box side)
+  Vec body_lo, body_hi;      // bounding box of the moving mesh (body coordinates)
 
   Query(const SceneData& s, const std::vector<Vec>& verts, const Faces& faces, const Motion3& m,
         const CollideOptions& opt)
@@ -318,52 +333,156 @@ struct Query {
     }
     mid.resize(nv);
     rad.resize(nv);
-    Vec lo = V.front(), hi = V.front();
+    placed.assign(nv, 0);
+    body_lo = body_hi = V.front();
     for (const Vec& p : V) {
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
+      body_lo = body_lo.cwiseMin(p);
+      body_hi = body_hi.cwiseMax(p);
     }
-    center = 0.5 * (lo + hi);
-    for (const Vec& p : V) radius = std::max(radius, (p - center).norm());
+    feature = std::max(st.mean_extent, meanFaceExtent(V, F));
   }
 
-  // Whether the whole moving mesh may meet the static scene's box over span time [a, b]: its
-  // bounding ball's centre moves within its path length of the middle position, and the ball's
-  // image under L^s has radius at most radius |L^s| <= radius |L^mid|_F e^(r |M|).
+  // Whether the whole moving mesh may meet the static scene's box over span time [a, b]. The
+  // mesh lies in its body box; at the middle pose the box is a parallelepiped spanned by the
+  // images of its corners, and every point of it moves at most its path radius, which (the
+  // speed |v| being convex in the position) is largest at a corner.
   bool mayReachScene(const SpanData& d, double a, double b) const {
-    const double r = 0.5 * (b - a), z = r * d.fwd.logNorm();
-    const Affine3 P = d.fwd.power(0.5 * (a + b)) * d.span->start();
-    const Vec c = P.applyPoint(center);
-    const double reach = (radius * P.linear().norm() * std::exp(z) + d.span->velocity(c).norm() * r * detail::phi1(z)) *
-                             detail::kBoundSlack + 1e-12 * (c.norm() + radius);
-    return !((c.array() - reach > st.hi.array()).any() || (c.array() + reach < st.lo.array()).any());
+    const IntervalFrame fr = frame(d, a, b);
+    Vec lo = Vec::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    double reach = 0;
+    for (int k = 0; k < 8; ++k) {
+      const Vec c((k & 1) ? body_hi.x() : body_lo.x(), (k & 2) ? body_hi.y() : body_lo.y(),
+                  (k & 4) ? body_hi.z() : body_lo.z());
+      const Vec x0 = d.span->start().applyPoint(c), x = fr.P.applyPoint(x0);
+      lo = lo.cwiseMin(x);
+      hi = hi.cwiseMax(x);
+      reach = std::max(reach, d.span->velocity(x).norm() * fr.grow + 1e3 * positionSlack(x, x0));
+    }
+    return !((lo.array() - reach > st.hi.array()).any() || (hi.array() + reach < st.lo.array()).any());
+  }
+
+  // Rounding margin of a vertex position computed from its span-start position.
+  static double positionSlack(const Vec& x, const Vec& x0) { return 1e-14 * (x.norm() + x0.norm()); }
+
+  // Swept box of moving face f over an interval, from its vertices' middle positions and path
+  // radii (mid, rad), rounded outward to float as Embree sees it.
+  RTCBounds faceBox(std::size_t f, double* path = nullptr) const {
+    Vec lo = Vec::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    double r = 0;
+    for (int c = 0; c < 3; ++c) {
+      const int vi = F[f][c];
+      lo = lo.cwiseMin(mid[vi] - Vec::Constant(rad[vi]));
+      hi = hi.cwiseMax(mid[vi] + Vec::Constant(rad[vi]));
+      r = std::max(r, rad[vi]);
+    }
+    if (path) *path = r;
+    RTCBounds bb;
+    storeBounds(&bb, lo, hi);
+    return bb;
+  }
+
+  // The middle pose of span time [a, b] and the factor that turns a speed at the middle into a
+  // conservative path radius over [a, b].
+  struct IntervalFrame {
+    Affine3 P;
+    double grow;
+  };
+  IntervalFrame frame(const SpanData& d, double a, double b) const {
+    const double r = 0.5 * (b - a);
+    return {d.fwd.power(0.5 * (a + b)), r * detail::phi1(r * d.fwd.logNorm()) * detail::kBoundSlack};
+  }
+  void placeVertex(const SpanData& d, const IntervalFrame& fr, std::size_t v) {
+    mid[v] = fr.P.applyPoint(d.W0[v]);
+    // Path-length bound plus a rounding margin for the position itself.
+    rad[v] = d.span->velocity(mid[v]).norm() * fr.grow + positionSlack(mid[v], d.W0[v]);
+  }
+
+  static bool outside(const RTCBounds& bb, const Vec& lo, const Vec& hi) {
+    return bb.lower_x > hi.x() || bb.lower_y > hi.y() || bb.lower_z > hi.z() || bb.upper_x < lo.x() ||
+           bb.upper_y < lo.y() || bb.upper_z < lo.z();
+  }
+  static void pushBox(IntervalBoxes& out, unsigned f, const RTCBounds& bb, double path) {
+    out.path_sum += path;
+    out.faces.push_back(f);
+    out.box.insert(out.box.end(), {bb.lower_x, bb.lower_y, bb.lower_z, bb.upper_x, bb.upper_y, bb.upper_z});
   }
 
   // Swept boxes of the moving faces over span time [a, b] of span d, keeping the faces whose box
   // meets the static scene's bounding box.
   void sweptBoxes(const SpanData& d, double a, double b, IntervalBoxes& out) {
-    const double r = 0.5 * (b - a), grow = r * detail::phi1(r * d.fwd.logNorm()) * detail::kBoundSlack;
-    const Affine3 P = d.fwd.power(0.5 * (a + b));
-    for (std::size_t v = 0; v < V.size(); ++v) {
-      mid[v] = P.applyPoint(d.W0[v]);
-      // Path-length bound plus a rounding margin for the position itself.
-      rad[v] = d.span->velocity(mid[v]).norm() * grow + 1e-14 * (mid[v].norm() + d.W0[v].norm());
-    }
-    out.faces.clear();
-    out.box.clear();
+    const IntervalFrame fr = frame(d, a, b);
+    for (std::size_t v = 0; v < V.size(); ++v) placeVertex(d, fr, v);
     for (std::size_t f = 0; f < F.size(); ++f) {
-      Vec lo = Vec::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-      for (int c = 0; c < 3; ++c) {
-        const int vi = F[f][c];
-        lo = lo.cwiseMin(mid[vi] - Vec::Constant(rad[vi]));
-        hi = hi.cwiseMax(mid[vi] + Vec::Constant(rad[vi]));
-      }
-      if ((lo.array() > st.hi.array()).any() || (hi.array() < st.lo.array()).any()) continue;
-      RTCBounds bb;
-      storeBounds(&bb, lo, hi);
-      out.faces.push_back(static_cast<unsigned>(f));
-      out.box.insert(out.box.end(), {bb.lower_x, bb.lower_y, bb.lower_z, bb.upper_x, bb.upper_y, bb.upper_z});
+      double path;
+      const RTCBounds bb = faceBox(f, &path);
+      if (!outside(bb, st.lo, st.hi)) pushBox(out, static_cast<unsigned>(f), bb, path);
     }
+  }
+
+  // Swept boxes over span time [a, b] of the faces a parent interval kept: the true sweep over
+  // [a, b] lies inside the parent's conservative box, so a face the parent dropped stays out.
+  void subsetBoxes(const SpanData& d, double a, double b, const std::vector<unsigned>& faces, IntervalBoxes& out) {
+    const IntervalFrame fr = frame(d, a, b);
+    ++epoch;
+    for (const unsigned f : faces) {
+      for (int c = 0; c < 3; ++c) {
+        const auto vi = static_cast<std::size_t>(F[f][c]);
+        if (placed[vi] != epoch) {
+          placeVertex(d, fr, vi);
+          placed[vi] = epoch;
+        }
+      }
+      double path;
+      const RTCBounds bb = faceBox(f, &path);
+      if (!outside(bb, st.lo, st.hi)) pushBox(out, f, bb, path);
+    }
+  }
+
+  // The candidate pairs of a half [a, b] of a halved interval, from its parent's. The true sweep
+  // of a face over the half lies inside the parent's conservative box, so only the parent's
+  // pairs can meet; each is kept when the half's own (tighter) box of the moving face still
+  // overlaps the static triangle's box. No Embree query: this touches only the parent's pairs.
+  std::vector<PairHit> refinePairs(const SpanData& d, double a, double b, const IntervalBoxes& parent,
+                                   const std::vector<PairHit>& parent_pairs, IntervalBoxes& out) {
+    const auto start = Clock::now();
+    const IntervalFrame fr = frame(d, a, b);
+    ++epoch;
+    std::vector<int> slot(parent.faces.size(), -1);  // parent index -> index into out, or -2: culled
+    std::vector<PairHit> pairs;
+    for (const PairHit& p : parent_pairs) {
+      int& k = slot[p.moving];
+      if (k == -1) {
+        const unsigned f = parent.faces[p.moving];
+        for (int c = 0; c < 3; ++c) {
+          const auto vi = static_cast<std::size_t>(F[f][c]);
+          if (placed[vi] != epoch) {
+            placeVertex(d, fr, vi);
+            placed[vi] = epoch;
+          }
+        }
+        double path;
+        const RTCBounds bb = faceBox(f, &path);
+        if (outside(bb, st.lo, st.hi)) {
+          k = -2;
+        } else {
+          k = static_cast<int>(out.faces.size());
+          pushBox(out, f, bb, path);
+        }
+      }
+      if (k < 0) continue;
+      const auto& g = st.F[p.fixed];
+      const Vec lo = st.V[g[0]].cwiseMin(st.V[g[1]]).cwiseMin(st.V[g[2]]);
+      const Vec hi = st.V[g[0]].cwiseMax(st.V[g[1]]).cwiseMax(st.V[g[2]]);
+      RTCBounds sb;
+      storeBounds(&sb, lo, hi);  // the static box exactly as the scene's BVH has it
+      const float* q = &out.box[6 * static_cast<std::size_t>(k)];
+      if (q[0] <= sb.upper_x && q[1] <= sb.upper_y && q[2] <= sb.upper_z && sb.lower_x <= q[3] &&
+          sb.lower_y <= q[4] && sb.lower_z <= q[5])
+        pairs.push_back({static_cast<unsigned>(k), p.fixed});
+    }
+    stats.candidate_pairs += pairs.size();
+    stats.broad_seconds += seconds(start, Clock::now());
+    return pairs;
   }
 
   // Candidate pairs (index into out.faces, static face) of the interval.
@@ -479,13 +598,27 @@ struct Query {
 
   // Halving of an interval stops at this depth below the options' slices (2^10 more).
   static constexpr int kMaxDepth = 10;
-  // An interval is halved when its candidate pairs exceed this many per kept moving face: its
-  // swept boxes are then much larger than the triangles, and halving shrinks them.
+  // An interval is halved when its candidate pairs exceed this many per kept moving face (and
+  // its boxes are still partly path, see kPathFloor): halving shrinks them.
   static constexpr double kSplitRatio = 4.0;
+  // An interval is halved before its Embree query while the faces' mean path diameter exceeds
+  // this many typical triangle sizes.
+  static constexpr double kPathRatio = 2.0;
+  // ... and after it (too many pairs) only while the path is at least this many triangle sizes:
+  // below, the boxes are mostly the triangles themselves and halving no longer thins the pairs.
+  static constexpr double kPathFloor = 0.25;
+  static double meanPathDiameter(const IntervalBoxes& b) {
+    return b.faces.empty() ? 0.0 : 2 * b.path_sum / static_cast<double>(b.faces.size());
+  }
 
-  // Processes span time [a, b] of span i in time order: broad phase, then either halves (too
-  // many candidates) or solves the pairs.
-  void interval(std::size_t i, double a, double b, int depth, Search& S) {
+  // Processes span time [a, b] of span i in time order: the moving faces' swept boxes, then
+  // either halves the interval or solves the candidate pairs. It halves before any Embree query
+  // while the boxes are mostly path (the faces' mean path diameter above kPathRatio triangle
+  // sizes: a query would return pairs by the hundred thousand), and after one when the query
+  // returns more than kSplitRatio pairs per face. A half starts from its parent's faces, or from
+  // its parent's pairs when the parent ran a query.
+  void interval(std::size_t i, double a, double b, int depth, Search& S, const IntervalBoxes* parent = nullptr,
+                const std::vector<PairHit>* parent_pairs = nullptr) {
     const SpanData& d = spans[i];
     if (S.done) return;
     if (S.mode != Mode::All && S.best && globalTime(d, a) > S.best->t) {
@@ -493,21 +626,32 @@ struct Query {
       return;
     }
     IntervalBoxes boxes;
-    const auto t_start = Clock::now();
-    if (!mayReachScene(d, a, b)) {
+    std::vector<PairHit> pairs;
+    const double m = 0.5 * (a + b);
+    if (parent_pairs) {
+      pairs = refinePairs(d, a, b, *parent, *parent_pairs, boxes);
+    } else {
+      const auto t_start = Clock::now();
+      if (parent) {
+        subsetBoxes(d, a, b, parent->faces, boxes);
+      } else if (mayReachScene(d, a, b)) {
+        sweptBoxes(d, a, b, boxes);
+      }
       stats.broad_seconds += seconds(t_start, Clock::now());
-      return;
+      if (boxes.faces.empty()) return;
+      if (depth < kMaxDepth && meanPathDiameter(boxes) > kPathRatio * feature) {
+        interval(i, a, m, depth + 1, S, &boxes);
+        interval(i, m, b, depth + 1, S, &boxes);
+        return;
+      }
+      pairs = collide(boxes);
     }
-    sweptBoxes(d, a, b, boxes);
-    stats.broad_seconds += seconds(t_start, Clock::now());
-    if (boxes.faces.empty()) return;
-    std::vector<PairHit> pairs = collide(boxes);
     if (pairs.empty()) return;
-    if (depth < kMaxDepth && static_cast<double>(pairs.size()) > kSplitRatio * static_cast<double>(boxes.faces.size())) {
+    if (depth < kMaxDepth && static_cast<double>(pairs.size()) > kSplitRatio * static_cast<double>(boxes.faces.size()) &&
+        meanPathDiameter(boxes) > kPathFloor * feature) {
       stats.candidate_pairs -= pairs.size();  // superseded by the halves' pairs
-      const double m = 0.5 * (a + b);
-      interval(i, a, m, depth + 1, S);
-      interval(i, m, b, depth + 1, S);
+      interval(i, a, m, depth + 1, S, &boxes, &pairs);
+      interval(i, m, b, depth + 1, S, &boxes, &pairs);
       return;
     }
     const auto n_start = Clock::now();

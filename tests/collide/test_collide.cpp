@@ -81,6 +81,92 @@ TEST(Collide, CubeOnSlabFirstContact) {
   }
 }
 
+// A grid of 2 n^2 triangles over [-h, h]^2 in the plane z = 0, normals up.
+Mesh grid(int n, double h) {
+  Mesh m;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) m.v.emplace_back(-h + 2 * h * i / n, -h + 2 * h * j / n, 0.0);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+      m.f.push_back({a, b, d});
+      m.f.push_back({a, d, c});
+    }
+  return m;
+}
+
+// A UV sphere of radius r about the origin (rings x segments quads, fans at the poles).
+Mesh uvSphere(int rings, int segments, double r) {
+  Mesh m;
+  m.v.emplace_back(0, 0, r);
+  for (int i = 1; i < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const double th = M_PI * i / rings, ph = 2 * M_PI * j / segments;
+      m.v.emplace_back(r * std::sin(th) * std::cos(ph), r * std::sin(th) * std::sin(ph), r * std::cos(th));
+    }
+  m.v.emplace_back(0, 0, -r);
+  const int south = static_cast<int>(m.v.size()) - 1;
+  auto ring = [&](int i, int j) { return 1 + (i - 1) * segments + (j % segments); };
+  for (int j = 0; j < segments; ++j) m.f.push_back({0, ring(1, j), ring(1, j + 1)});
+  for (int i = 1; i + 1 < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      m.f.push_back({ring(i, j), ring(i + 1, j), ring(i + 1, j + 1)});
+      m.f.push_back({ring(i, j), ring(i + 1, j + 1), ring(i, j + 1)});
+    }
+  for (int j = 0; j < segments; ++j) m.f.push_back({south, ring(rings - 1, j + 1), ring(rings - 1, j)});
+  return m;
+}
+
+// Fine meshes on long motions: the swept boxes of a whole slice are many triangles wide, so the
+// broad phase halves intervals before and after its Embree queries. The body is convex and the
+// grid flat, so the first contact is the first time a vertex reaches z = 0: the oracle samples
+// each vertex's height densely and bisects its first sign change.
+TEST(Collide, FineMeshesOnLongMotionsKeepTheExactFirstContact) {
+  const Mesh plate = grid(120, 3.0);  // 28,800 triangles of side 0.05
+  const StaticScene scene(plate.v, plate.f);
+  const Mesh ball = uvSphere(24, 48, 0.5);  // 2,208 triangles
+  // Seeded motions: turns of 1 to 3 radians about random axes while sinking by 0.4 to 0.7; every
+  // other one adds a shear and an anisotropic scaling.
+  std::mt19937_64 rng(8675309);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<std::pair<Affine3, Affine3>> motions;
+  for (int k = 0; k < 12; ++k) {
+    const Affine3 B = Affine3::translation(V(0.3 * u(rng), 0.3 * u(rng), 0.9)) * Affine3::rotation(V(u(rng), u(rng), 1), u(rng));
+    Affine3 L = Affine3::rotation(V(u(rng), u(rng), u(rng)), 2 + u(rng));
+    if (k % 2 == 1) {
+      Eigen::Matrix3d shear = Eigen::Matrix3d::Identity();
+      shear(0, 2) = 0.3 * u(rng);
+      L = L * Affine3(shear, V::Zero()) * Affine3::scaling(V(1.2 + 0.2 * u(rng), 0.8 + 0.1 * u(rng), 1 + 0.2 * u(rng)));
+    }
+    motions.emplace_back(B, Affine3::translation(V(0.5 * u(rng), 0.5 * u(rng), -0.55 + 0.15 * u(rng))) * L * B);
+  }
+  for (std::size_t k = 0; k < motions.size(); ++k) {
+    const Motion3 motion = Motion3::polySam(std::vector<Affine3>{motions[k].first, motions[k].second});
+    double oracle = 2;
+    const int N = 4000;
+    for (const V& p : ball.v) {
+      auto z = [&](double t) { return motion.pose(t).applyPoint(p).z(); };
+      double prev = z(0);
+      for (int i = 1; i <= N && static_cast<double>(i - 1) / N < oracle; ++i) {
+        const double t = static_cast<double>(i) / N, cur = z(t);
+        if (prev > 0 && cur <= 0) {
+          double lo = static_cast<double>(i - 1) / N, hi = t;
+          for (int it = 0; it < 60; ++it) (z(0.5 * (lo + hi)) > 0 ? lo : hi) = 0.5 * (lo + hi);
+          oracle = std::min(oracle, hi);
+          break;
+        }
+        prev = cur;
+      }
+    }
+    ASSERT_LT(oracle, 1.0) << "motion " << k << " must reach the plate";
+    const auto c = scene.firstContact(ball.v, ball.f, motion);
+    ASSERT_TRUE(c.has_value()) << "motion " << k;
+    EXPECT_NEAR(c->t, oracle, 1e-9) << "motion " << k;
+    EXPECT_LE(c->t, oracle + 1e-12) << "motion " << k;
+    EXPECT_NEAR(c->point.z(), 0.0, 1e-9);
+  }
+}
+
 TEST(Collide, TranslationOntoAFaceEdgeAndVertex) {
   // A cube centred at z = 2 falling by 4 onto the slab: its bottom face (at 1.5 - 4 s) reaches
   // z = -1.2 at s = 2.7 / 4.

@@ -13,7 +13,10 @@
 /// (vertex/face), static vertices against the moving triangle's plane (face/vertex, on the
 /// inverse span), and edges against edges (coplanarity), each root checked for the features
 /// actually meeting. Candidate slices are processed in time order, so the first contact stops
-/// the search as soon as no earlier slice remains.
+/// the search as soon as no earlier slice remains. A slice whose boxes are mostly path (mean
+/// path diameter above two triangle sizes) is halved before any Embree query, a slice with more
+/// than four pairs per moving triangle after it; halves reuse their parent's faces or pairs,
+/// since a sub-interval's true sweep lies inside the parent's boxes.
 ///
 /// Guarantee. A contact is reported at the lower end `lo` of its root bracket, never later than
 /// the true time by more than RootOptions::time_tolerance (1e-12 in span time), unless the
