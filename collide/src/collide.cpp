@@ -2,6 +2,7 @@
 // candidate pairs (see collide.hpp).
 #include <steady/collide/collide.hpp>
 
+#include "internal.hpp"
 #include "isolate.hpp"
 #include "relative.hpp"
 
@@ -19,22 +20,11 @@
 
 namespace steady {
 
-const char* to_string(ContactType type) noexcept {
-  switch (type) {
-    case ContactType::VertexFace: return "vertex-face";
-    case ContactType::FaceVertex: return "face-vertex";
-    case ContactType::EdgeEdge: return "edge-edge";
-  }
-  return "unknown";
-}
+using namespace detail;
 
-namespace {
+// ---- shared internals (internal.hpp) -----------------------------------------------------------
 
-using Vec = Eigen::Vector3d;
-using Faces = std::vector<std::array<int, 3>>;
-using Clock = std::chrono::steady_clock;
-
-double seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
+namespace detail {
 
 void checkMesh(const std::vector<Vec>& V, const Faces& F, const char* which) {
   const std::string w(which);
@@ -129,6 +119,52 @@ double segmentDistance(const Vec& p0, const Vec& p1, const Vec& q0, const Vec& q
   return (cp - cq).norm();
 }
 
+void collectPairs(void* user, RTCCollision* collisions, unsigned n) {
+  auto* sink = static_cast<PairSink*>(user);
+  std::lock_guard<std::mutex> lock(sink->mutex);
+  for (unsigned i = 0; i < n; ++i) sink->pairs.push_back({collisions[i].primID0, collisions[i].primID1});
+}
+
+RTCDevice newDevice() {
+  RTCDevice d = rtcNewDevice(nullptr);
+  if (!d) throw Error(ErrorCode::InvalidArgument, "Embree could not create a device (rtcNewDevice failed)");
+  return d;
+}
+
+RTCDevice sharedDevice() {
+  static const RTCDevice device = newDevice();
+  return device;
+}
+
+// A user geometry of `count` primitives with the given bounds callback, committed into `scene`.
+void addUserGeometry(RTCDevice device, RTCScene scene, unsigned count, RTCBoundsFunction fn, void* user) {
+  RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+  rtcSetGeometryUserPrimitiveCount(g, count);
+  rtcSetGeometryUserData(g, user);
+  rtcSetGeometryBoundsFunction(g, fn, user);
+  rtcCommitGeometry(g);
+  rtcAttachGeometry(scene, g);
+  rtcReleaseGeometry(g);
+  rtcCommitScene(scene);
+}
+
+}  // namespace detail
+
+const char* to_string(ContactType type) noexcept {
+  switch (type) {
+    case ContactType::VertexFace: return "vertex-face";
+    case ContactType::FaceVertex: return "face-vertex";
+    case ContactType::EdgeEdge: return "edge-edge";
+  }
+  return "unknown";
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
+
 // Sorts contact events by time and drops duplicates of one event (the same feature pair found
 // through adjacent triangles, within 1e-9 relative in time).
 void mergeEvents(std::vector<Contact>& out) {
@@ -155,88 +191,9 @@ bool onTriangle(const Vec& x, const Vec& p, const Vec& q, const Vec& r, double t
   return (x - cp).norm() <= tol + slack;
 }
 
-struct PairHit {
-  unsigned moving, fixed;  // moving primitive (slice-major), static face
-};
-
-struct PairSink {
-  std::mutex mutex;
-  std::vector<PairHit> pairs;
-};
-
-void collectPairs(void* user, RTCCollision* collisions, unsigned n) {
-  auto* sink = static_cast<PairSink*>(user);
-  std::lock_guard<std::mutex> lock(sink->mutex);
-  for (unsigned i = 0; i < n; ++i) sink->pairs.push_back({collisions[i].primID0, collisions[i].primID1});
-}
-
 }  // namespace
 
 // ---- the static scene ---------------------------------------------------------------------------
-
-namespace {
-
-// The static scene's data (StaticScene::Impl adds nothing: it only names it for the header).
-struct SceneData {
-  std::vector<Vec> V;
-  Faces F;
-  std::vector<Vec> normal;  // unit face normals
-  std::vector<double> offset;  // normal . x = offset on the face's plane
-  double diag = 0;
-  double mean_extent = 0;  // mean over faces of the largest side of the face's box
-  Vec lo, hi;  // bounding box
-  RTCDevice device = nullptr;
-  RTCScene scene = nullptr;
-
-  SceneData() = default;
-  SceneData(const SceneData&) = delete;
-  SceneData& operator=(const SceneData&) = delete;
-  ~SceneData() {
-    if (scene) rtcReleaseScene(scene);
-    if (device) rtcReleaseDevice(device);
-  }
-
-  static void bounds(const RTCBoundsFunctionArguments* args) {
-    const auto* self = static_cast<const SceneData*>(args->geometryUserPtr);
-    const auto& f = self->F[args->primID];
-    const Vec lo = self->V[f[0]].cwiseMin(self->V[f[1]]).cwiseMin(self->V[f[2]]);
-    const Vec hi = self->V[f[0]].cwiseMax(self->V[f[1]]).cwiseMax(self->V[f[2]]);
-    storeBounds(args->bounds_o, lo, hi);
-  }
-};
-
-}  // namespace
-
-struct StaticScene::Impl : SceneData {};
-
-namespace {
-
-RTCDevice newDevice() {
-  RTCDevice d = rtcNewDevice(nullptr);
-  if (!d) throw Error(ErrorCode::InvalidArgument, "Embree could not create a device (rtcNewDevice failed)");
-  return d;
-}
-
-// One Embree device for the two-body queries (creating one costs tens of milliseconds); Embree
-// devices are thread-safe. Never released: it lives as long as the process.
-RTCDevice sharedDevice() {
-  static const RTCDevice device = newDevice();
-  return device;
-}
-
-// A user geometry of `count` primitives with the given bounds callback, committed into `scene`.
-void addUserGeometry(RTCDevice device, RTCScene scene, unsigned count, RTCBoundsFunction fn, void* user) {
-  RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
-  rtcSetGeometryUserPrimitiveCount(g, count);
-  rtcSetGeometryUserData(g, user);
-  rtcSetGeometryBoundsFunction(g, fn, user);
-  rtcCommitGeometry(g);
-  rtcAttachGeometry(scene, g);
-  rtcReleaseGeometry(g);
-  rtcCommitScene(scene);
-}
-
-}  // namespace
 
 StaticScene::StaticScene(std::vector<Vec> vertices, Faces faces) : impl_(std::make_unique<Impl>()) {
   checkMesh(vertices, faces, "the static");

@@ -89,6 +89,32 @@ struct CollideStats {
   double narrow_seconds = 0.0;      ///< the exact solves
 };
 
+/// Options of the clearance queries (minimum distance over a motion).
+struct ClearanceOptions {
+  /// The search stops once upper - lower <= max(absolute_gap * D, relative_gap * upper), D the
+  /// larger bounding-box diagonal of the two meshes. Defaults: 1e-2 relative, 1e-9 absolute.
+  /// The work grows like (path length of the motion) / gap where the distance stays near its
+  /// minimum for long (a body gliding at constant height needs about path / gap evaluations),
+  /// and like its square root near an isolated minimum.
+  double relative_gap = 1e-2;
+  double absolute_gap = 1e-9;
+  /// Cap on exact distance evaluations (poses); when reached, the bracket returned is simply
+  /// wider than asked (it is always valid). Default 20000.
+  std::size_t max_evaluations = 20000;
+};
+
+/// The minimum distance between two meshes over a motion, bracketed: the true minimum over all
+/// times lies in [lower, upper], and upper is the exact distance at time t (so it is attained).
+/// Meshes that touch or cross somewhere have lower = 0.
+struct Clearance {
+  double lower = 0.0;
+  double upper = 0.0;
+  double t = 0.0;                                      ///< a time where the distance is upper
+  Eigen::Vector3d point_a = Eigen::Vector3d::Zero();   ///< closest point of the moving mesh a at t (world)
+  Eigen::Vector3d point_b = Eigen::Vector3d::Zero();   ///< closest point of mesh b at t (world)
+  std::size_t evaluations = 0;                         ///< exact distance evaluations used
+};
+
 /// A static triangle mesh in an Embree BVH, built once and queried by many motions. Queries
 /// are const and may run concurrently.
 class StaticScene {
@@ -119,6 +145,13 @@ class StaticScene {
   bool touches(const std::vector<Eigen::Vector3d>& vertices, const std::vector<std::array<int, 3>>& faces,
                const Motion3& motion, const CollideOptions& options = {}) const;
 
+  /// The minimum distance between the mesh (posed by the motion) and the scene over the whole
+  /// motion, as a bracket (see Clearance): exact distances at chosen times, and between them the
+  /// bound that no point moves farther than its path length. Throws like firstContact, and
+  /// Error(InvalidArgument) for bad options.
+  Clearance clearance(const std::vector<Eigen::Vector3d>& vertices, const std::vector<std::array<int, 3>>& faces,
+                      const Motion3& motion, const ClearanceOptions& options = {}) const;
+
   /// Number of static triangles.
   std::size_t faceCount() const;
 
@@ -145,5 +178,8 @@ std::optional<Contact> firstContact(const MovingMesh& a, const MovingMesh& b, co
 /// Every contact event of two moving meshes, in time order (see firstContact(a, b)).
 std::vector<Contact> contacts(const MovingMesh& a, const MovingMesh& b, const CollideOptions& options = {},
                               CollideStats* stats = nullptr);
+/// The minimum distance between two moving meshes over the time range their motions share, as
+/// a bracket (see Clearance and StaticScene::clearance).
+Clearance clearance(const MovingMesh& a, const MovingMesh& b, const ClearanceOptions& options = {});
 
 }  // namespace steady
