@@ -10,6 +10,9 @@ packages=(
   libbenchmark-dev   # bench/
   libcli11-dev nlohmann-json3-dev  # cli/, io/ (motion files)
   libopenmesh-dev    # io/ (mesh files)
+  libembree-dev libtbb-dev  # collide/ (broad phase)
+  libcgal-demo       # bench/: CGAL's sample meshes (data.tar.gz)
+  libfcl-dev         # bench/: FCL 0.7, the contact peer
 )
 
 missing=()
