@@ -1,16 +1,18 @@
-// pow, sam, demo, motion sample and pattern: read the arguments, call the library, build the
-// JSON answer.
+// pow, sam, demo, motion sample, pattern and collide: read the arguments, call the library,
+// build the JSON answer.
 
 #include "commands.hpp"
 
 #include "affinity_io.hpp"
 
+#include <steady/collide/collide.hpp>
 #include <steady/core/motion.hpp>
 #include <steady/io/mesh.hpp>
 #include <steady/io/motion_file.hpp>
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <climits>
 #include <cmath>
 #include <cstdio>
@@ -221,16 +223,16 @@ struct LoadedMotion {
 };
 
 // A --motion argument: a path, "-" (standard input), "@path" / "@-" like an affinity argument,
-// or inline JSON starting with '{'.
-LoadedMotion loadMotion(const std::string& argument) {
+// or inline JSON starting with '{'. `option` names the option in messages.
+LoadedMotion loadMotion(const std::string& argument, const std::string& option = "--motion") {
   std::string text = trimmed(argument);
-  if (text.empty()) throw UsageError("usage", "--motion: empty; give a motion file (JSON, see io/README.md)");
-  if (text[0] == '{') return {steady::io::parseMotion(text, "--motion (inline JSON)"), "inline JSON"};
+  if (text.empty()) throw UsageError("usage", option + ": empty; give a motion file (JSON, see io/README.md)");
+  if (text[0] == '{') return {steady::io::parseMotion(text, option + " (inline JSON)"), "inline JSON"};
   if (text[0] == '@') text = text.substr(1);
-  if (text.empty()) throw UsageError("usage", "--motion: missing file name after '@'");
+  if (text.empty()) throw UsageError("usage", option + ": missing file name after '@'");
   if (text == "-") {
     const std::string input((std::istreambuf_iterator<char>(std::cin)), std::istreambuf_iterator<char>());
-    if (std::cin.bad()) throw steady::Error(steady::ErrorCode::Io, "--motion: cannot read standard input");
+    if (std::cin.bad()) throw steady::Error(steady::ErrorCode::Io, option + ": cannot read standard input");
     return {steady::io::parseMotion(input, "<stdin>"), "standard input"};
   }
   return {steady::io::readMotionFile(text), text};
@@ -254,6 +256,107 @@ steady::Affine3 poseAt(const steady::KeyframeMotion3& motion, double t) {
   const steady::Affine3 p = withContext("the pose at t = " + num(t) + ": ", [&] { return motion.pose(t); });
   requireFinite(p, "the pose at t = " + num(t));
   return p;
+}
+
+// --- collide -----------------------------------------------------------------------------------
+
+// Whether a --motion argument reads standard input.
+bool readsStdin(const std::string& argument) {
+  const std::string text = trimmed(argument);
+  return text == "-" || text == "@-";
+}
+
+// A mesh for the contact queries, with the name used in messages and summaries.
+struct CollideBody {
+  steady::io::TriangleMesh mesh;
+  std::string path;
+};
+
+// The checks the contact queries make on a mesh (steady::StaticScene and the two-body queries
+// throw DegenerateInput, NonFinite or InvalidArgument; collide/src/collide.cpp, checkMesh, with
+// the same zero-area test), made here first so that a mesh collide cannot use is reported with
+// its file as bad input (exit status 2), not as a math error. readMesh() has rejected files
+// without triangles, non-finite coordinates and corner indices out of range already; these
+// checks are kept as a safety net.
+CollideBody readCollideMesh(const std::string& path, const std::string& option) {
+  CollideBody body{steady::io::readMesh(path), path};
+  const auto& V = body.mesh.vertices;
+  const auto& F = body.mesh.faces;
+  const std::string where = option + " '" + path + "': ";
+  if (V.empty() || F.empty())
+    throw UsageError(steady::to_string(steady::ErrorCode::DegenerateInput), where + "the mesh has no triangle");
+  for (std::size_t i = 0; i < V.size(); ++i)
+    if (!V[i].allFinite())
+      throw UsageError(steady::to_string(steady::ErrorCode::NonFinite),
+                       where + "vertex " + std::to_string(i) + " is not finite");
+  for (std::size_t f = 0; f < F.size(); ++f) {
+    for (const int k : F[f])
+      if (k < 0 || static_cast<std::size_t>(k) >= V.size())
+        throw UsageError(steady::to_string(steady::ErrorCode::InvalidFile),
+                         where + "triangle " + std::to_string(f) + " refers to vertex " + std::to_string(k) +
+                             ", but there are " + std::to_string(V.size()) + " vertices");
+    const Eigen::Vector3d e1 = V[static_cast<std::size_t>(F[f][1])] - V[static_cast<std::size_t>(F[f][0])];
+    const Eigen::Vector3d e2 = V[static_cast<std::size_t>(F[f][2])] - V[static_cast<std::size_t>(F[f][0])];
+    if (!(e1.cross(e2).norm() > 1e-14 * (e1.squaredNorm() + e2.squaredNorm())))
+      throw UsageError(steady::to_string(steady::ErrorCode::DegenerateInput),
+                       where + "triangle " + std::to_string(f) + " (vertices " + std::to_string(F[f][0]) + ", " +
+                           std::to_string(F[f][1]) + ", " + std::to_string(F[f][2]) +
+                           ") has zero area (collinear or repeated corners); contact needs a plane for every "
+                           "triangle: remove it or repair the mesh");
+  }
+  return body;
+}
+
+// The motion of a file as SAM spans for a body: exact for polysam and subdivide, within the
+// file's tolerance (relative to the body's box diagonal) for the curved kinds.
+steady::Motion3 spansOf(const steady::KeyframeMotion3& motion, const LoadedMotion& loaded, const CollideBody& body) {
+  return withContext("the motion of " + loaded.source + ": ", [&] {
+    return motion.toMotion(steady::Box<3>::of(body.mesh.vertices), loaded.file.approximation);
+  });
+}
+
+Json vectorJson(const Eigen::Vector3d& v) {
+  Json a = Json::array();
+  for (int i = 0; i < 3; ++i) a.push_back(outputNumber(v(i)));
+  return a;
+}
+
+// A feature: a vertex or face index, or [i, j] for an edge.
+Json featureJson(const std::array<int, 2>& f) {
+  if (f[1] < 0) return Json(f[0]);
+  return Json::array({f[0], f[1]});
+}
+
+Json contactJson(const steady::Contact& c) {
+  Json out = Json::object();
+  out["t"] = outputNumber(c.t);
+  out["span"] = c.span;
+  out["span_time"] = outputNumber(c.span_time);
+  Json features = Json::object();
+  features["type"] = steady::to_string(c.type);
+  features["moving"] = featureJson(c.a);
+  features["static"] = featureJson(c.b);
+  out["features"] = std::move(features);
+  out["point"] = vectorJson(c.point);
+  out["normal"] = vectorJson(c.normal);
+  out["crossing"] = c.crossing;
+  out["certain"] = c.certain;
+  return out;
+}
+
+void addClearance(Json& out, const steady::Clearance& c) {
+  out["clearance"] = outputNumber(c.upper);
+  out["clearance_bounds"] = Json::array({outputNumber(c.lower), outputNumber(c.upper)});
+  out["clearance_t"] = outputNumber(c.t);
+  Json closest = Json::object();
+  closest["moving"] = vectorJson(c.point_a);
+  closest["static"] = vectorJson(c.point_b);
+  out["closest"] = std::move(closest);
+}
+
+std::string triangles(const CollideBody& body) {
+  const std::size_t n = body.mesh.faces.size();
+  return std::to_string(n) + (n == 1 ? " triangle" : " triangles");
 }
 
 }  // namespace
@@ -337,6 +440,90 @@ std::string patternCommand(const std::string& motion, int copies, const std::str
          num(m.endTime()) + "): " + std::to_string(out.vertices.size()) + " vertices, " +
          std::to_string(out.faces.size()) + " triangles written to " + output +
          (binary ? " (binary)" : "");
+}
+
+CollideOutput collideCommand(const CollideRequest& request) {
+  const bool two_moving = !request.against_motion.empty();
+  if (two_moving && readsStdin(request.motion) && readsStdin(request.against_motion))
+    throw UsageError("usage", "--motion and --against-motion cannot both read standard input");
+  // Files first (unreadable input is exit status 2), then the math of the motions.
+  const LoadedMotion loaded = loadMotion(request.motion);
+  std::optional<LoadedMotion> loaded_b;
+  if (two_moving) loaded_b = loadMotion(request.against_motion, "--against-motion");
+  const CollideBody a = readCollideMesh(request.moving, "MOVING");
+  const CollideBody b = readCollideMesh(request.against, "--against");
+  const steady::KeyframeMotion3 keys_a = buildMotion(loaded);
+  std::optional<steady::KeyframeMotion3> keys_b;
+  if (two_moving) keys_b.emplace(buildMotion(*loaded_b));
+  double t0 = keys_a.beginTime(), t1 = keys_a.endTime();
+  if (keys_b) {
+    t0 = std::max(t0, keys_b->beginTime());
+    t1 = std::min(t1, keys_b->endTime());
+    if (!(t1 > t0))
+      throw UsageError("usage", "--against-motion: the motions share no time: " + loaded.source + " runs over t " +
+                                    num(keys_a.beginTime()) + " .. " + num(keys_a.endTime()) + ", " +
+                                    loaded_b->source + " over t " + num(keys_b->beginTime()) + " .. " +
+                                    num(keys_b->endTime()));
+  }
+  const steady::Motion3 motion_a = spansOf(keys_a, loaded, a);
+  std::optional<steady::Motion3> motion_b;
+  if (keys_b) motion_b.emplace(spansOf(*keys_b, *loaded_b, b));
+
+  const auto& Va = a.mesh.vertices;
+  const auto& Fa = a.mesh.faces;
+  const auto& Vb = b.mesh.vertices;
+  const auto& Fb = b.mesh.faces;
+  std::optional<steady::StaticScene> scene;
+  if (!two_moving) scene.emplace(Vb, Fb);
+  auto contacts = [&]() -> std::vector<steady::Contact> {
+    if (scene) return scene->contacts(Va, Fa, motion_a);
+    return steady::contacts({Va, Fa, motion_a}, {Vb, Fb, *motion_b});
+  };
+  auto first = [&]() -> std::optional<steady::Contact> {
+    if (scene) return scene->firstContact(Va, Fa, motion_a);
+    return steady::firstContact({Va, Fa, motion_a}, {Vb, Fb, *motion_b});
+  };
+  auto clearance = [&]() -> steady::Clearance {
+    if (scene) return scene->clearance(Va, Fa, motion_a);
+    return steady::clearance({Va, Fa, motion_a}, {Vb, Fb, *motion_b});
+  };
+
+  std::vector<steady::Contact> found;
+  if (request.all) {
+    found = contacts();
+  } else if (auto c = first()) {
+    found.push_back(*c);
+  }
+  std::optional<steady::Clearance> gap;
+  if (found.empty()) gap = clearance();
+
+  Json out = Json::object();
+  out["contact"] = !found.empty();
+  if (request.all) {
+    Json list = Json::array();
+    for (const auto& c : found) list.push_back(contactJson(c));
+    out["contacts"] = std::move(list);
+  } else if (!found.empty()) {
+    const Json first_contact = contactJson(found.front());
+    for (const auto& item : first_contact.items()) out[item.key()] = item.value();
+  }
+  if (gap) addClearance(out, *gap);
+
+  const std::string between = " between " + a.path + " (" + triangles(a) + ") along " + loaded.source + " and " +
+                              b.path + " (" + triangles(b) + (two_moving ? ") along " + loaded_b->source : ", static)");
+  std::string summary = "steady collide: ";
+  if (gap) {
+    summary += "no contact" + between + " over t " + num(t0) + " .. " + num(t1) + "; clearance " + num(gap->upper) +
+               " at t = " + num(gap->t) + " (the minimum lies in [" + num(gap->lower) + ", " + num(gap->upper) + "])";
+  } else if (!request.all) {
+    const steady::Contact& c = found.front();
+    summary += "first contact at t = " + num(c.t) + " (" + steady::to_string(c.type) + ", span " +
+               std::to_string(c.span) + ")" + between;
+  } else {
+    summary += std::to_string(found.size()) + (found.size() == 1 ? " contact" : " contacts") + " from t = " +
+               num(found.front().t) + " to " + num(found.back().t) + between;
+  }
+  return {formatJson(out), summary};
 }
 
 }  // namespace steady_cli

@@ -49,4 +49,31 @@ std::string motionSampleCommand(const std::string& motion, int count);
 std::string patternCommand(const std::string& motion, int copies, const std::string& mesh,
                            const std::string& output, bool binary);
 
+/// Arguments of `steady collide`.
+struct CollideRequest {
+  std::string moving;          ///< mesh file of the moving body (vertices in body coordinates)
+  std::string motion;          ///< its motion (a --motion argument: path, "-", "@path", inline JSON)
+  std::string against;         ///< mesh file of the second body
+  std::string against_motion;  ///< its motion; empty: the second body is static (world coordinates)
+  bool all = false;            ///< every contact event instead of the first
+};
+
+/// Output of `steady collide`.
+struct CollideOutput {
+  std::string json;     ///< the answer for standard output
+  std::string summary;  ///< one line for people (no newline)
+};
+
+/// `steady collide`: the first contact (or, with `all`, every contact event in time order) of
+/// the moving mesh along its motion with the second mesh, static or moving along its own
+/// motion; without contact, the clearance (minimum distance over the motion) instead:
+///   {"contact": true, "t", "span", "span_time", "features": {"type", "moving", "static"},
+///    "point", "normal", "crossing", "certain"}
+///   {"contact": false, "clearance", "clearance_bounds", "clearance_t", "closest": {"moving", "static"}}
+///   {"contact", "contacts": [...]} (with all; plus the clearance members when there is none)
+/// "moving" always names the first mesh and "static" the second, also when it moves.
+/// @throws UsageError for unreadable or unusable input (a zero-area triangle, motions that share
+///   no time), steady::Error for math errors of the motions.
+CollideOutput collideCommand(const CollideRequest& request);
+
 }  // namespace steady_cli

@@ -5,7 +5,11 @@
 // SPEC is one of
 //   JSON            the document must contain this value (see below) at its root;
 //   /POINTER=JSON   the value at the JSON pointer must contain this value;
-//   /POINTER#N      the array or object at the pointer has N elements.
+//   /POINTER#N      the array or object at the pointer has N elements;
+//   /POINTER<=X     the number at the pointer is at most X (exactly: no tolerance);
+//   /POINTER>=X     the number at the pointer is at least X (exactly);
+//   /POINTER^/SUB   the array at the pointer is in non-decreasing order of the numbers at the
+//                   JSON pointer SUB inside its elements (SUB empty: the elements themselves).
 // "Contain": objects need every expected member (others are allowed); arrays must have the same
 // length and matching elements; numbers must agree within TOL * max(1, |expected|); strings,
 // booleans and null must be equal. Exit status 0 when everything matches, 1 otherwise (each
@@ -106,14 +110,14 @@ int main(int argc, char** argv) {
     std::string value = spec;
     char op = '=';
     if (!spec.empty() && spec[0] == '/') {
-      const auto cut = spec.find_first_of("=#");
-      if (cut == std::string::npos) {
-        std::cerr << "json_check: spec '" << spec << "' needs =JSON or #N\n";
+      const auto cut = spec.find_first_of("=#<>^");
+      if (cut == std::string::npos || ((spec[cut] == '<' || spec[cut] == '>') && spec.compare(cut + 1, 1, "=") != 0)) {
+        std::cerr << "json_check: spec '" << spec << "' needs =JSON, #N, <=X, >=X or ^/SUB\n";
         return 2;
       }
       pointer = spec.substr(0, cut);
       op = spec[cut];
-      value = spec.substr(cut + 1);
+      value = spec.substr(op == '<' || op == '>' ? cut + 2 : cut + 1);
     }
     const json::json_pointer ptr(pointer);
     if (!actual.contains(ptr)) {
@@ -121,7 +125,37 @@ int main(int argc, char** argv) {
       continue;
     }
     const json& here = actual.at(ptr);
-    if (op == '#') {
+    if (op == '<' || op == '>') {
+      const json bound = parseOrDie(value, "the bound '" + value + "'");
+      if (!bound.is_number()) {
+        std::cerr << "json_check: the bound in '" << spec << "' is not a number\n";
+        return 2;
+      }
+      const double b = bound.get<double>();
+      if (!here.is_number())
+        errors.push_back(pointer + ": expected a number, got " + show(here));
+      else if (op == '<' ? !(here.get<double>() <= b) : !(here.get<double>() >= b))
+        errors.push_back(pointer + ": got " + show(json(here.get<double>())) + ", expected " + (op == '<' ? "<= " : ">= ") +
+                         show(json(b)));
+    } else if (op == '^') {
+      const json::json_pointer sub(value);
+      if (!here.is_array()) {
+        errors.push_back(pointer + ": expected an array, got " + show(here));
+        continue;
+      }
+      for (std::size_t k = 0; k < here.size(); ++k) {
+        const std::string at = pointer + "/" + std::to_string(k) + value;
+        if (!here[k].contains(sub) || !here[k].at(sub).is_number()) {
+          errors.push_back(at + ": missing or not a number");
+          break;
+        }
+        if (k > 0 && here[k].at(sub).get<double>() < here[k - 1].at(sub).get<double>()) {
+          errors.push_back(at + ": " + show(json(here[k].at(sub).get<double>())) + " comes after " +
+                           show(json(here[k - 1].at(sub).get<double>())) + ": not in non-decreasing order");
+          break;
+        }
+      }
+    } else if (op == '#') {
       const std::size_t n = std::stoul(value);
       if (!here.is_structured() || here.size() != n)
         errors.push_back(pointer + ": expected " + std::to_string(n) + " elements, got " + show(here));

@@ -247,7 +247,9 @@ Clearance search(Side& a, Side& b, RTCScene static_b, double t0, double t1, cons
     return out;
   }
 
-  // Initial leaves: every span of either motion in 8 pieces.
+  // The two ends (a minimum is often there), then every span of either motion in 8 pieces.
+  evaluate(t0, t0);
+  evaluate(t1, t1);
   std::vector<double> times{t0, t1};
   for (const Side* s : {&a, &b})
     if (s->motion)
