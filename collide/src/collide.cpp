@@ -354,6 +354,17 @@ struct Query {
     rad[v] = d.span->velocity(mid[v]).norm() * fr.grow + positionSlack(mid[v], d.W0[v]);
   }
 
+  // Places the vertices of face f not yet placed in the current epoch.
+  void placeFace(const SpanData& d, const IntervalFrame& fr, unsigned f) {
+    for (int c = 0; c < 3; ++c) {
+      const auto vi = static_cast<std::size_t>(F[f][c]);
+      if (placed[vi] != epoch) {
+        placeVertex(d, fr, vi);
+        placed[vi] = epoch;
+      }
+    }
+  }
+
   static bool outside(const RTCBounds& bb, const Vec& lo, const Vec& hi) {
     return bb.lower_x > hi.x() || bb.lower_y > hi.y() || bb.lower_z > hi.z() || bb.upper_x < lo.x() ||
            bb.upper_y < lo.y() || bb.upper_z < lo.z();
@@ -382,13 +393,7 @@ struct Query {
     const IntervalFrame fr = frame(d, a, b);
     ++epoch;
     for (const unsigned f : faces) {
-      for (int c = 0; c < 3; ++c) {
-        const auto vi = static_cast<std::size_t>(F[f][c]);
-        if (placed[vi] != epoch) {
-          placeVertex(d, fr, vi);
-          placed[vi] = epoch;
-        }
-      }
+      placeFace(d, fr, f);
       double path;
       const RTCBounds bb = faceBox(f, &path);
       if (!outside(bb, st.lo, st.hi)) pushBox(out, f, bb, path);
@@ -410,13 +415,7 @@ struct Query {
       int& k = slot[p.moving];
       if (k == -1) {
         const unsigned f = parent.faces[p.moving];
-        for (int c = 0; c < 3; ++c) {
-          const auto vi = static_cast<std::size_t>(F[f][c]);
-          if (placed[vi] != epoch) {
-            placeVertex(d, fr, vi);
-            placed[vi] = epoch;
-          }
-        }
+        placeFace(d, fr, f);
         double path;
         const RTCBounds bb = faceBox(f, &path);
         if (outside(bb, st.lo, st.hi)) {

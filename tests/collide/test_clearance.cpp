@@ -5,7 +5,7 @@
 #include <steady/collide/collide.hpp>
 #include <steady/core/error.hpp>
 
-#include "test_meshes.hpp"
+#include "support/meshes.hpp"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 // exact triangle/triangle intersection test, then bisection).
 #include <steady/collide/collide.hpp>
 
-#include "test_meshes.hpp"
+#include "support/meshes.hpp"
 
 #include <gtest/gtest.h>
 

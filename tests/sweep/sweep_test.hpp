@@ -3,6 +3,8 @@
 #include <steady/core/affine.hpp>
 #include <steady/core/error.hpp>
 
+#include "support/meshes.hpp"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
@@ -20,44 +22,11 @@
 
 namespace steady_sweep_test {
 
-using V = Eigen::Vector3d;
-using Faces = std::vector<std::array<int, 3>>;
-
-struct Mesh {
-  std::vector<V> v;
-  Faces f;
-};
-
-// An axis-aligned box [lo, hi], outward triangles; vertex i has x from bit 0, y bit 1, z bit 2.
-inline Mesh box(const V& lo, const V& hi) {
-  Mesh m;
-  for (int i = 0; i < 8; ++i) m.v.emplace_back(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
-  m.f = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-         {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-  return m;
-}
-
-// A UV sphere of radius r about c (rings x segments, fans at the poles), outward triangles.
-inline Mesh uvSphere(int rings, int segments, double r, const V& c = V::Zero()) {
-  Mesh m;
-  m.v.push_back(c + V(0, 0, r));
-  for (int i = 1; i < rings; ++i)
-    for (int j = 0; j < segments; ++j) {
-      const double th = M_PI * i / rings, ph = 2 * M_PI * j / segments;
-      m.v.push_back(c + r * V(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)));
-    }
-  m.v.push_back(c + V(0, 0, -r));
-  const int south = static_cast<int>(m.v.size()) - 1;
-  auto ring = [&](int i, int j) { return 1 + (i - 1) * segments + (j % segments); };
-  for (int j = 0; j < segments; ++j) m.f.push_back({0, ring(1, j), ring(1, j + 1)});
-  for (int i = 1; i + 1 < rings; ++i)
-    for (int j = 0; j < segments; ++j) {
-      m.f.push_back({ring(i, j), ring(i + 1, j), ring(i + 1, j + 1)});
-      m.f.push_back({ring(i, j), ring(i + 1, j + 1), ring(i, j + 1)});
-    }
-  for (int j = 0; j < segments; ++j) m.f.push_back({south, ring(rings - 1, j + 1), ring(rings - 1, j)});
-  return m;
-}
+using steady_test::box;
+using steady_test::Faces;
+using steady_test::Mesh;
+using steady_test::uvSphere;
+using steady_test::V;
 
 // Reverses every face.
 inline Mesh flipped(Mesh m) {

@@ -1,5 +1,5 @@
 #pragma once
-// Small test meshes for the collide tests, generated in code.
+// Small test meshes generated in code, shared by the collide and sweep tests.
 #include <Eigen/Core>
 
 #include <array>
@@ -16,7 +16,7 @@ struct Mesh {
   Faces f;
 };
 
-// An axis-aligned box, outward-oriented triangles.
+// An axis-aligned box [lo, hi], outward triangles; vertex i has x from bit 0, y bit 1, z bit 2.
 inline Mesh box(const V& lo, const V& hi) {
   Mesh m;
   for (int i = 0; i < 8; ++i) m.v.emplace_back(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
@@ -50,16 +50,16 @@ inline Mesh grid(int n, double h) {
 }
 
 
-// A UV sphere of radius r about the origin (rings x segments quads, fans at the poles).
-inline Mesh uvSphere(int rings, int segments, double r) {
+// A UV sphere of radius r about c (rings x segments quads, fans at the poles), outward triangles.
+inline Mesh uvSphere(int rings, int segments, double r, const V& c = V::Zero()) {
   Mesh m;
-  m.v.emplace_back(0, 0, r);
+  m.v.push_back(c + V(0, 0, r));
   for (int i = 1; i < rings; ++i)
     for (int j = 0; j < segments; ++j) {
       const double th = M_PI * i / rings, ph = 2 * M_PI * j / segments;
-      m.v.emplace_back(r * std::sin(th) * std::cos(ph), r * std::sin(th) * std::sin(ph), r * std::cos(th));
+      m.v.push_back(c + r * V(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)));
     }
-  m.v.emplace_back(0, 0, -r);
+  m.v.push_back(c + V(0, 0, -r));
   const int south = static_cast<int>(m.v.size()) - 1;
   auto ring = [&](int i, int j) { return 1 + (i - 1) * segments + (j % segments); };
   for (int j = 0; j < segments; ++j) m.f.push_back({0, ring(1, j), ring(1, j + 1)});
