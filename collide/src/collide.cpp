@@ -269,6 +269,16 @@ struct Query {
   double feature = 0;        // typical triangle size of the two meshes (larger mean box side)
   Vec body_lo, body_hi;      // bounding box of the moving mesh (body coordinates)
 
+  RTCScene moving_scene = nullptr;        // the moving boxes of the current interval
+  RTCGeometry moving_geometry = nullptr;  // (created on first use, reused by every interval)
+
+  Query(const Query&) = delete;
+  Query& operator=(const Query&) = delete;
+  ~Query() {
+    if (moving_geometry) rtcReleaseGeometry(moving_geometry);
+    if (moving_scene) rtcReleaseScene(moving_scene);
+  }
+
   Query(const SceneData& s, const std::vector<Vec>& verts, const Faces& faces, const Motion3& m,
         const CollideOptions& opt)
       : st(s), V(verts), F(faces), motion(m), o(opt) {
@@ -446,11 +456,20 @@ struct Query {
     const auto start = Clock::now();
     PairSink sink;
     if (!boxes.faces.empty()) {
-      RTCScene scene = rtcNewScene(st.device);
-      rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_LOW);
-      addUserGeometry(st.device, scene, static_cast<unsigned>(boxes.faces.size()), &IntervalBoxes::bounds, &boxes);
-      rtcCollide(scene, st.scene, &collectPairs, &sink);
-      rtcReleaseScene(scene);
+      // One scene and geometry per query, rebuilt for each interval: Embree keeps the scene's
+      // memory between commits (a new scene per interval cost page faults on every build).
+      if (!moving_scene) {
+        moving_scene = rtcNewScene(st.device);
+        rtcSetSceneBuildQuality(moving_scene, RTC_BUILD_QUALITY_LOW);
+        moving_geometry = rtcNewGeometry(st.device, RTC_GEOMETRY_TYPE_USER);
+        rtcSetGeometryBoundsFunction(moving_geometry, &IntervalBoxes::bounds, nullptr);
+        rtcAttachGeometry(moving_scene, moving_geometry);
+      }
+      rtcSetGeometryUserPrimitiveCount(moving_geometry, static_cast<unsigned>(boxes.faces.size()));
+      rtcSetGeometryUserData(moving_geometry, &boxes);
+      rtcCommitGeometry(moving_geometry);
+      rtcCommitScene(moving_scene);
+      rtcCollide(moving_scene, st.scene, &collectPairs, &sink);
     }
     stats.candidate_pairs += sink.pairs.size();
     stats.broad_seconds += seconds(start, Clock::now());
