@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 #include <mutex>
 #include <string>
@@ -267,6 +268,7 @@ struct Query {
   std::vector<unsigned> placed;  // per vertex: the epoch in which mid/rad were last computed
   unsigned epoch = 0;
   double feature = 0;        // typical triangle size of the two meshes (larger mean box side)
+  double body_diag = 0;      // bounding-box diagonal of the moving mesh
   Vec body_lo, body_hi;      // bounding box of the moving mesh (body coordinates)
 
   RTCScene moving_scene = nullptr;        // the moving boxes of the current interval
@@ -307,6 +309,7 @@ struct Query {
       body_hi = body_hi.cwiseMax(p);
     }
     feature = std::max(st.mean_extent, meanFaceExtent(V, F));
+    body_diag = (body_hi - body_lo).norm();
   }
 
   // Whether the whole moving mesh may meet the static scene's box over span time [a, b]. The
@@ -499,8 +502,30 @@ struct Query {
       c.certain = r.certain;
       return c;
     };
+    // Feature culling. The broad phase placed this interval's vertices: over [a, b] moving vertex
+    // v stays within rad[v] of mid[v], so a moving edge or face stays in the box of its vertices'
+    // balls. Features whose boxes stay farther apart than the contact distance cannot meet.
+    const double margin = tol + 1e-12 * (st.diag + body_diag);
+    auto ballBox = [&](std::initializer_list<int> vs, Vec& box_lo, Vec& box_hi) {
+      box_lo = Vec::Constant(std::numeric_limits<double>::infinity());
+      box_hi = -box_lo;
+      for (const int v : vs) {
+        box_lo = box_lo.cwiseMin(mid[v] - Vec::Constant(rad[v]));
+        box_hi = box_hi.cwiseMax(mid[v] + Vec::Constant(rad[v]));
+      }
+    };
+    auto apart = [&](const Vec& alo, const Vec& ahi, const Vec& blo, const Vec& bhi) {
+      return (alo.array() > bhi.array() + margin).any() || (blo.array() > ahi.array() + margin).any();
+    };
+    const Vec slo = st.V[sf[0]].cwiseMin(st.V[sf[1]]).cwiseMin(st.V[sf[2]]);
+    const Vec shi = st.V[sf[0]].cwiseMax(st.V[sf[1]]).cwiseMax(st.V[sf[2]]);
+    Vec mlo, mhi;
+    ballBox({mf[0], mf[1], mf[2]}, mlo, mhi);
     // Moving vertices against the static face's plane.
     for (int k = 0; k < 3; ++k) {
+      Vec vlo, vhi;
+      ballBox({mf[k]}, vlo, vhi);
+      if (apart(vlo, vhi, slo, shi)) continue;
       roots.clear();
       ++stats.feature_solves;
       d.fwd.pointPlane(d.W0[mf[k]], st.normal[g], st.offset[g], a, hi, roots);
@@ -520,6 +545,7 @@ struct Query {
     const Vec n0 = (d.W0[mf[1]] - d.W0[mf[0]]).cross(d.W0[mf[2]] - d.W0[mf[0]]);
     const double h0 = n0.dot(d.W0[mf[0]]);
     for (int k = 0; k < 3; ++k) {
+      if (apart(st.V[sf[k]], st.V[sf[k]], mlo, mhi)) continue;
       roots.clear();
       ++stats.feature_solves;
       d.inv.pointPlane(st.V[sf[k]], n0, h0, a, hi, roots);
@@ -539,8 +565,11 @@ struct Query {
     // Edges against edges.
     for (int i = 0; i < 3; ++i) {
       const int ma = mf[i], mb = mf[(i + 1) % 3];
+      Vec elo, ehi;
+      ballBox({ma, mb}, elo, ehi);
       for (int j = 0; j < 3; ++j) {
         const int sa = sf[j], sb = sf[(j + 1) % 3];
+        if (apart(elo, ehi, st.V[sa].cwiseMin(st.V[sb]), st.V[sa].cwiseMax(st.V[sb]))) continue;
         roots.clear();
         ++stats.feature_solves;
         d.fwd.edgeEdge(d.W0[ma], d.W0[mb], st.V[sa], st.V[sb], a, hi, roots);
