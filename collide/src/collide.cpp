@@ -13,6 +13,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <initializer_list>
 #include <limits>
 #include <mutex>
@@ -60,14 +62,28 @@ double boxDiagonal(const std::vector<Vec>& V) {
 }
 
 // Outward rounding of a double box to float.
+namespace {
+// One float step towards -infinity: std::nextafter(f, -inf) without the library call (which was
+// a quarter of a first-contact query). +inf steps to the largest float; -inf and NaN stay.
+float stepDown(float f) {
+  if (f == 0.0f) return -std::numeric_limits<float>::denorm_min();
+  if (!(std::abs(f) <= std::numeric_limits<float>::max())) return f > 0 ? std::numeric_limits<float>::max() : f;
+  std::uint32_t u;
+  std::memcpy(&u, &f, sizeof u);
+  u = f > 0 ? u - 1 : u + 1;
+  std::memcpy(&f, &u, sizeof f);
+  return f;
+}
+float stepUp(float f) { return -stepDown(-f); }
+}  // namespace
+
 void storeBounds(RTCBounds* b, const Vec& lo, const Vec& hi) {
-  const float inf = std::numeric_limits<float>::infinity();
-  b->lower_x = std::nextafter(static_cast<float>(lo.x()), -inf);
-  b->lower_y = std::nextafter(static_cast<float>(lo.y()), -inf);
-  b->lower_z = std::nextafter(static_cast<float>(lo.z()), -inf);
-  b->upper_x = std::nextafter(static_cast<float>(hi.x()), inf);
-  b->upper_y = std::nextafter(static_cast<float>(hi.y()), inf);
-  b->upper_z = std::nextafter(static_cast<float>(hi.z()), inf);
+  b->lower_x = stepDown(static_cast<float>(lo.x()));
+  b->lower_y = stepDown(static_cast<float>(lo.y()));
+  b->lower_z = stepDown(static_cast<float>(lo.z()));
+  b->upper_x = stepUp(static_cast<float>(hi.x()));
+  b->upper_y = stepUp(static_cast<float>(hi.y()));
+  b->upper_z = stepUp(static_cast<float>(hi.z()));
 }
 
 // Mean over the faces of the largest side of each face's bounding box.
