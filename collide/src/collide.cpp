@@ -351,20 +351,21 @@ struct Query {
   static double positionSlack(const Vec& x, const Vec& x0) { return 1e-14 * (x.norm() + x0.norm()); }
 
   // Swept box of moving face f over an interval, from its vertices' middle positions and path
-  // radii (mid, rad), rounded outward to float as Embree sees it.
-  RTCBounds faceBox(std::size_t f, double* path = nullptr) const {
+  // radii (mid, rad), rounded outward to float as Embree sees it, unless the box misses the
+  // static scene's box (then false: the face cannot meet the scene). `path` is the face's
+  // largest vertex path radius.
+  bool faceBox(std::size_t f, RTCBounds& bb, double& path) const {
     Vec lo = Vec::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-    double r = 0;
+    path = 0;
     for (int c = 0; c < 3; ++c) {
       const int vi = F[f][c];
       lo = lo.cwiseMin(mid[vi] - Vec::Constant(rad[vi]));
       hi = hi.cwiseMax(mid[vi] + Vec::Constant(rad[vi]));
-      r = std::max(r, rad[vi]);
+      path = std::max(path, rad[vi]);
     }
-    if (path) *path = r;
-    RTCBounds bb;
+    if ((lo.array() > st.hi.array()).any() || (hi.array() < st.lo.array()).any()) return false;
     storeBounds(&bb, lo, hi);
-    return bb;
+    return true;
   }
 
   // The middle pose of span time [a, b] and the factor that turns a speed at the middle into a
@@ -394,10 +395,6 @@ struct Query {
     }
   }
 
-  static bool outside(const RTCBounds& bb, const Vec& lo, const Vec& hi) {
-    return bb.lower_x > hi.x() || bb.lower_y > hi.y() || bb.lower_z > hi.z() || bb.upper_x < lo.x() ||
-           bb.upper_y < lo.y() || bb.upper_z < lo.z();
-  }
   static void pushBox(IntervalBoxes& out, unsigned f, const RTCBounds& bb, double path) {
     out.path_sum += path;
     out.faces.push_back(f);
@@ -410,9 +407,9 @@ struct Query {
     const IntervalFrame fr = frame(d, a, b);
     for (std::size_t v = 0; v < V.size(); ++v) placeVertex(d, fr, v);
     for (std::size_t f = 0; f < F.size(); ++f) {
+      RTCBounds bb;
       double path;
-      const RTCBounds bb = faceBox(f, &path);
-      if (!outside(bb, st.lo, st.hi)) pushBox(out, static_cast<unsigned>(f), bb, path);
+      if (faceBox(f, bb, path)) pushBox(out, static_cast<unsigned>(f), bb, path);
     }
   }
 
@@ -423,9 +420,9 @@ struct Query {
     ++epoch;
     for (const unsigned f : faces) {
       placeFace(d, fr, f);
+      RTCBounds bb;
       double path;
-      const RTCBounds bb = faceBox(f, &path);
-      if (!outside(bb, st.lo, st.hi)) pushBox(out, f, bb, path);
+      if (faceBox(f, bb, path)) pushBox(out, f, bb, path);
     }
   }
 
@@ -445,9 +442,9 @@ struct Query {
       if (k == -1) {
         const unsigned f = parent.faces[p.moving];
         placeFace(d, fr, f);
+        RTCBounds bb;
         double path;
-        const RTCBounds bb = faceBox(f, &path);
-        if (outside(bb, st.lo, st.hi)) {
+        if (!faceBox(f, bb, path)) {
           k = -2;
         } else {
           k = static_cast<int>(out.faces.size());
