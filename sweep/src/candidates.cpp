@@ -27,9 +27,9 @@
 
 #include <steady/core/error.hpp>
 
-#include <Eigen/Geometry>  // cross products
+#include "tessellation.hpp"
 
-#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>  // cross products
 
 #include <algorithm>
 #include <cmath>
@@ -41,16 +41,7 @@ namespace steady::sweep {
 namespace {
 
 using Vec = Eigen::Vector3d;
-
-// An upper bound of the spectral norm |M|_2: the square root of the largest eigenvalue of
-// MᵀM, inflated to cover its rounding, and never above the Frobenius norm.
-double spectralBound(const Eigen::Matrix3d& M) {
-  const double frob = M.norm();
-  if (frob == 0) return 0.0;
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(M.transpose() * M, Eigen::EigenvaluesOnly);
-  const double lmax = es.eigenvalues().maxCoeff();
-  return std::min(frob, std::sqrt(std::max(lmax, 0.0)) * (1 + 1e-10) + 1e-12 * frob);
-}
+using detail::spectralBound;
 
 // Zero-area test for output triangles (same relative rule as Body's default).
 bool degenerate(const Vec& a, const Vec& b, const Vec& c) {
@@ -176,15 +167,7 @@ void appendSpan(CandidateSurface& out, const Body& body, const Span3& span, int 
                     "spanCandidates: more than " + std::to_string(options.max_steps) + " time steps on span " +
                         std::to_string(span_index) + " for tolerance " + std::to_string(eps) +
                         "; raise the tolerance (or max_steps)");
-      // Largest h <= 1 - tau with h²/8 μ e^(hμ) V <= ε/2 (V inflated for its rounding).
-      const double Vb = V * (1 + 1e-12), rem = 1.0 - tau;
-      auto chord = [&](double h) { return h * h / 8.0 * mu * std::exp(h * mu) * Vb; };
-      double h = rem;
-      if (chord(h) > 0.5 * eps) {
-        h = std::min(rem, std::sqrt(4.0 * eps / (mu * Vb)));
-        while (chord(h) > 0.5 * eps) h *= 0.97;
-      }
-      tau = h >= rem ? 1.0 : tau + h;
+      tau = detail::nextGridTime(tau, mu * V, mu, eps);
       grid.tau.push_back(tau);
     }
     out.grids.push_back(std::move(grid));
@@ -203,15 +186,11 @@ void appendSpan(CandidateSurface& out, const Body& body, const Span3& span, int 
     for (std::size_t k = 0; k < K; ++k) {
       const double h = grid.tau[k + 1] - grid.tau[k];
       const double ek = (out.vertices[rows[k][b]] - out.vertices[rows[k][a]]).norm();
-      twist = std::max(twist, h * mu * std::exp(h * mu) * ek * (1 + 1e-12) / 4.0);
+      twist = std::max(twist, detail::cellTwist(h, mu, mu * ek));
     }
-    const double m_real = std::ceil(twist / (0.5 * eps));
-    if (!(m_real <= options.max_steps))
-      throw Error(ErrorCode::InvalidArgument,
-                  "spanCandidates: segment " + std::to_string(j) + " of span " + std::to_string(span_index) +
-                      " needs more than " + std::to_string(options.max_steps) + " pieces for tolerance " +
-                      std::to_string(eps) + "; raise the tolerance (or max_steps)");
-    const int m = std::max(1, static_cast<int>(m_real));
+    const int m = detail::piecesFor(twist, eps, options.max_steps,
+                                    "spanCandidates: segment " + std::to_string(j) + " of span " +
+                                        std::to_string(span_index));
 
     CandidateStrip strip;
     strip.span = span_index;

@@ -108,6 +108,7 @@ GrazingSet grazingSet(const Body& body, const Span3& span, const GrazingOptions&
                    : neg      ? FaceClass::Back
                               : FaceClass::Grazing;
   }
+  out.corner_values = g;
   auto corner = [&](int f, int v) {
     for (int k = 0; k < 3; ++k)
       if (F[f][k] == v) return k;

@@ -113,6 +113,10 @@ struct GrazingLoop {
 /// The grazing set of a body on a span.
 struct GrazingSet {
   std::vector<FaceClass> faces;          ///< one class per body face
+  /// Per face, g_f = n_f · v at its three corners (in the face's corner order), snapped to 0
+  /// where |g| <= eps_g; the classes and the curves depend on these values only. Empty for a
+  /// stationary span.
+  std::vector<std::array<double, 3>> corner_values;
   std::vector<GrazingPoint> points;      ///< curve end points (shared by the segments they join)
   std::vector<GrazingSegment> segments;  ///< face, silhouette and grazing-boundary segments
   /// The segments chained at shared points. Every segment is in exactly one loop. Where a point
