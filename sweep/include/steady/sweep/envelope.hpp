@@ -1,0 +1,143 @@
+#pragma once
+/// @file
+/// The envelope of a sweep: the boundary of the volume `⋃_t A_t(body)` swept by a closed body
+/// along a SAM span or a polySAM, as one closed, 2-manifold, outward triangle mesh.
+///
+/// Method (details in sweep/README.md and src/cycle.cpp, src/trim.cpp).
+/// 1. The sweep cycle. On each span the grazing set is fixed on the body (grazing.hpp). Let
+///    Front be the part of the body surface whose velocity points outward (`n·v > 0`) and
+///    Back the rest. The closed, consistently oriented surface
+///    `Q = Back(τ = 0) + Front(τ = 1) + strips swept by the boundary curves of Front`
+///    has a winding number `w_Q(x) >= 0` everywhere, and the volume swept along the span is
+///    exactly `{x : w_Q(x) >= 1}` (a degree argument: `w_Q` is the body's indicator at τ = 0
+///    plus the number of times the front region passes over x). A polySAM sums the cycles of
+///    its spans; the swept volume is again `{w >= 1}`.
+/// 2. Trimming. The triangles of Q are intersected with each other in exact arithmetic (CGAL
+///    Epeck) and re-triangulated so that they meet only along shared edges; each resulting
+///    patch gets its winding numbers from one exact ray count; the faces with `w = 0` on one
+///    side and `w >= 1` on the other form the envelope. Vertices are rounded to double at the
+///    end (the only rounding of the result).
+///
+/// Tolerance. The only approximation is the tessellation of the swept strips in time and along
+/// the grazing curves: every point of a true swept strip is within ε of the tessellated strip
+/// (bound derived in candidates.hpp, not sampled). Caps and grazing curves are exact up to
+/// rounding. So every envelope vertex lies within ε of the true boundary, and every posed body
+/// point lies inside the envelope or within ε of it.
+
+#include <steady/core/motion.hpp>
+#include <steady/sweep/body.hpp>
+#include <steady/sweep/grazing.hpp>
+
+#include <Eigen/Core>
+
+#include <array>
+#include <cstddef>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace steady::sweep {
+
+/// Progress of sweptEnvelope(): the stage and the fraction of it done, in [0, 1].
+struct SweepProgress {
+  /// "cycle", "intersect", "label" or "output".
+  const char* stage = "";
+  double fraction = 0.0;
+};
+
+/// Options of sweptEnvelope().
+struct SweepOptions {
+  /// ε: the largest distance between the tessellated and the true swept strips (world units).
+  /// Unset: `relative_tolerance` times the bounding-box diagonal of the body (body coordinates).
+  std::optional<double> tolerance;
+  /// Used when `tolerance` is unset. Default 1e-3.
+  double relative_tolerance = 1e-3;
+  /// Snapping of the grazing set (see GrazingOptions).
+  GrazingOptions grazing;
+  /// Safety limit on the time steps of one strip grid and on the pieces of one grazing
+  /// segment; more throws Error(InvalidArgument) (the tolerance is too small for the motion).
+  int max_steps = 1 << 16;
+  /// Check the rounded output for self-intersections with CGAL (EnvelopeCheck); costs about
+  /// a tenth of the sweep. Default on.
+  bool check = true;
+  /// Called now and then from the calling thread (at most about a hundred times); may be empty.
+  std::function<void(const SweepProgress&)> progress;
+};
+
+/// Wall-clock seconds of each stage of sweptEnvelope().
+struct SweepTimings {
+  double cycle = 0;      ///< grazing sets and the tessellated sweep cycle
+  double intersect = 0;  ///< exact triangle/triangle intersections and re-triangulation
+  double label = 0;      ///< patches and their winding numbers
+  double output = 0;     ///< selection, rounding, manifold output
+  double check = 0;      ///< the self-intersection check (0 when SweepOptions::check is off)
+  double total = 0;
+};
+
+/// Properties of a closed triangle mesh, as checked by inspectMesh().
+struct MeshCheck {
+  bool closed = false;        ///< every edge has exactly two faces
+  bool manifold = false;      ///< ... and every vertex has one fan of faces
+  bool oriented = false;      ///< every edge is traversed once in each direction
+  /// Number of pairs of faces that intersect other than along their shared edge or vertex
+  /// (CGAL's exact test on the double coordinates), among the faces that are not degenerate;
+  /// -1 when not checked.
+  long self_intersections = -1;
+  /// Faces with no area (a repeated vertex, or three collinear corners).
+  long degenerate_faces = 0;
+  int shells = 0;             ///< connected components (through shared edges)
+  double volume = 0;          ///< signed volume (divergence theorem); > 0 when outward
+  double area = 0;
+};
+
+/// The swept envelope and what was done to get it.
+struct Envelope {
+  std::vector<Eigen::Vector3d> vertices;       ///< world coordinates
+  std::vector<std::array<int, 3>> triangles;   ///< counter-clockwise seen from outside
+  double volume = 0;         ///< enclosed volume
+  double area = 0;           ///< surface area
+  double tolerance = 0;      ///< ε used (world units)
+  MeshCheck check;           ///< properties of the output (self_intersections -1 if not checked)
+  std::size_t spans = 0;                 ///< spans of the motion
+  std::size_t cycle_triangles = 0;       ///< triangles of the sweep cycle Q
+  std::size_t intersecting_pairs = 0;    ///< pairs of cycle triangles that cross
+  std::size_t arrangement_triangles = 0; ///< triangles after re-triangulation
+  std::size_t patches = 0;               ///< patches labelled with a winding number
+  std::size_t ray_retries = 0;           ///< rays re-cast because they hit an edge or vertex
+  /// Cavities (inner shells) thinner than ε on average (2 |volume| / area <= ε) that were
+  /// removed: pockets pinched between a cap and a strip leaving it tangentially, artefacts of
+  /// the tessellation within the tolerance.
+  std::size_t thin_cavities_removed = 0;
+  /// Distinct exact vertices that rounded to the same double point and were merged.
+  std::size_t rounding_merged = 0;
+  /// Vertices where the envelope touches itself (several fans of faces), given one copy per
+  /// extra fan so that the mesh is a 2-manifold.
+  std::size_t pinched_vertices_split = 0;
+  SweepTimings timings;
+};
+
+/// The envelope of `body` swept along every span of `motion`.
+///
+/// @param[in] body validated body (body coordinates)
+/// @param[in] motion the motion; span i moves the body from `motion.span(i).start()` to its
+///   end pose; all spans are swept together, so the result is one closed envelope
+/// @param[in] options tolerance, grazing snapping, check, progress
+/// @return the envelope in world coordinates
+/// @throws Error(InvalidArgument) for a tolerance that is not finite and positive, or when a
+///   strip needs more than `max_steps` steps (raise the tolerance); Error(NonFinite) when the
+///   posed body overflows; Error(DegenerateInput) when the exact trimming could not label a
+///   patch (never seen; the message asks for a bug report with the input).
+Envelope sweptEnvelope(const Body& body, const Motion3& motion, const SweepOptions& options = {});
+
+/// The envelope of `body` swept along one span (pose `span.pose(τ)`, τ in [0, 1]).
+Envelope sweptEnvelope(const Body& body, const Span3& span, const SweepOptions& options = {});
+
+/// Checks a triangle mesh: closed, oriented, manifold, self-intersections (exact predicates on
+/// the double coordinates, when `self_intersections` is true), shells, volume and area.
+/// Never throws for bad meshes (that is what it reports); throws Error(InvalidArgument) for a
+/// face index out of range.
+MeshCheck inspectMesh(const std::vector<Eigen::Vector3d>& vertices,
+                      const std::vector<std::array<int, 3>>& triangles, bool self_intersections = true);
+
+}  // namespace steady::sweep

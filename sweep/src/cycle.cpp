@@ -1,0 +1,418 @@
+// The sweep cycle of one span (see cycle.hpp and envelope.hpp).
+//
+// Why Q bounds the swept volume. Along a span a body point X moves to A^τ X; a fixed world point
+// x that is outside the body at τ = 0 and inside at some later time is crossed by the body's
+// surface where that surface moves outward (n·v > 0: the Front region). So the swept volume is
+// body(0) ∪ Φ(Front × [0, 1]) with Φ(X, τ) = A^τ X. Φ preserves orientation on Front × [0, 1]
+// (its Jacobian has the sign of n·v), so the number of preimages of x under Φ is the winding
+// number of Φ(∂(Front × [0, 1])) = Front(1) - Front(0) + strips(∂Front) around x, which is >= 0.
+// Adding body(0) = Front(0) + Back(0) gives Q = Back(0) + Front(1) + strips, whose winding number
+// is the body's indicator at τ = 0 plus that count: >= 0, and >= 1 exactly on the swept volume.
+// Grazing faces (n·v = 0 on the whole face) slide in their plane and are counted with Back.
+//
+// Construction. Corner values of g = n·v come from grazingSet() (snapped to 0 below eps_g);
+// only their signs and the affine interpolation between them decide what is front. On every
+// edge the zeros of its two faces' g (merged within 1e-12 in the edge parameter, as grazing.cpp
+// does) split it into pieces; a piece is a boundary curve of Front when exactly one of its two
+// faces is front there. Inside a split face the boundary is the chord where g vanishes. Every
+// boundary segment is oriented with Front on its left (the front polygon's winding), swept
+// into a strip (tessellation.hpp gives the time grid and the pieces), and every point where a
+// strip meets a cap (its ends and subdivision points at τ = 0 and 1) is also a vertex of the
+// cap polygons, which are cut exactly along the chords and fanned into triangles.
+#include "cycle.hpp"
+
+#include "tessellation.hpp"
+
+#include <steady/core/error.hpp>
+
+#include <Eigen/Geometry>  // cross products
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <string>
+
+namespace steady::sweep::detail {
+
+namespace {
+
+using Vec = Eigen::Vector3d;
+
+// Edge-parameter distance below which the zeros of the two faces of an edge are one point
+// (the same rule as grazing.cpp).
+constexpr double kMergeParameter = 1e-12;
+// A point whose speed is at most this fraction of the body's largest speed is held fixed over
+// the span (one vertex for all times): it moves by at most 1e-12 V e^|M| in truth, far below ε.
+constexpr double kFixedSpeed = 1e-12;
+
+int sgn(double x) { return (x > 0) - (x < 0); }
+
+int findRoot(std::vector<int>& parent, int x) {
+  while (parent[x] != x) x = parent[x] = parent[parent[x]];
+  return x;
+}
+
+// A point on an edge at parameter r, `(1 - r) p[v0] + r p[v1]`.
+struct EdgePoint {
+  double r = 0;
+  int point = -1;
+};
+
+// A boundary segment of Front from point p to point q (Front on its left): an edge piece
+// (edge >= 0, parameters rp, rq) or a chord of a split face (face >= 0).
+struct Segment {
+  int p = -1, q = -1;
+  int edge = -1, face = -1;
+  double rp = 0, rq = 0;
+};
+
+// A polygon corner: a point, and whether it is a true corner (a face vertex or a zero of the
+// face's own g) rather than a point that only subdivides a side.
+struct Corner {
+  int point = -1;
+  bool true_corner = true;
+  bool zero = false;
+};
+
+}  // namespace
+
+void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affine3& end_pose, double eps,
+                     const GrazingOptions& grazing, int max_steps, int span_index) {
+  const GrazingSet gs = grazingSet(body, span, grazing);
+  if (!end_pose.isFinite())
+    throw Error(ErrorCode::NonFinite, "sweptEnvelope: the end pose of span " + std::to_string(span_index) +
+                                          " is not finite");
+  const auto& P = body.vertices();
+  const auto& F = body.faces();
+  const auto& E = body.edges();
+  const auto& FE = body.faceEdges();
+  const std::size_t nf = F.size(), ne = E.size();
+  const Affine3 start = span.start();
+  const Eigen::Matrix3d& M = span.log().M;
+  const Vec& u = span.log().u;
+  const std::string where = "sweptEnvelope: span " + std::to_string(span_index);
+
+  // Body-coordinate points: the body's vertices, then points on edges and chords.
+  std::vector<Vec> pt(P.begin(), P.end());
+  auto addPoint = [&](const Vec& x) {
+    pt.push_back(x);
+    return static_cast<int>(pt.size()) - 1;
+  };
+
+  // What of each face is front: all, nothing (Back and Grazing faces), or a part (Split).
+  enum : char { kBack, kFront, kSplit };
+  std::vector<char> part(nf, kBack);
+  if (!gs.stationary)
+    for (std::size_t f = 0; f < nf; ++f)
+      part[f] = gs.faces[f] == FaceClass::Front ? kFront : gs.faces[f] == FaceClass::Split ? kSplit : kBack;
+  auto g = [&](int f, int v) {
+    for (int k = 0; k < 3; ++k)
+      if (F[f][k] == v) return gs.corner_values[f][k];
+    return 0.0;
+  };
+  // Is face f front at parameter r of its edge (a, b)? (Affine interpolation of snapped values.)
+  auto frontAt = [&](int f, int a, int b, double r) {
+    if (part[f] != kSplit) return part[f] == kFront;
+    return (1 - r) * g(f, a) + r * g(f, b) > 0;
+  };
+
+  // 1. Edges: zeros of the split faces' g, then the boundary pieces.
+  std::vector<std::vector<EdgePoint>> on_edge(ne);      // interior points, sorted by r
+  std::vector<std::array<int, 2>> zero(ne, {{-1, -1}});  // zero point of faces[i]'s g on e
+  std::vector<Segment> segs;
+  for (std::size_t e = 0; e < ne; ++e) {
+    const int a = E[e].vertices[0], b = E[e].vertices[1];
+    std::array<double, 2> root{{-1, -1}};
+    for (int i = 0; i < 2; ++i) {
+      const int f = E[e].faces[i];
+      if (part[f] != kSplit) continue;
+      const double ga = g(f, a), gb = g(f, b);
+      if (sgn(ga) * sgn(gb) < 0) root[i] = ga / (ga - gb);
+    }
+    for (int i = 0; i < 2; ++i) {
+      if (root[i] < 0) continue;
+      if (i == 1 && zero[e][0] >= 0 && std::abs(root[1] - root[0]) <= kMergeParameter) {
+        zero[e][1] = zero[e][0];
+        continue;
+      }
+      const int id = addPoint((1 - root[i]) * P[a] + root[i] * P[b]);
+      zero[e][i] = id;
+      on_edge[e].push_back({root[i], id});
+    }
+    std::sort(on_edge[e].begin(), on_edge[e].end(), [](const EdgePoint& x, const EdgePoint& y) { return x.r < y.r; });
+    // Pieces between consecutive break points; a boundary where exactly one face is front.
+    std::vector<EdgePoint> breaks{{0.0, a}};
+    breaks.insert(breaks.end(), on_edge[e].begin(), on_edge[e].end());
+    breaks.push_back({1.0, b});
+    for (std::size_t k = 0; k + 1 < breaks.size(); ++k) {
+      const double mid = 0.5 * (breaks[k].r + breaks[k + 1].r);
+      const bool f0 = frontAt(E[e].faces[0], a, b, mid), f1 = frontAt(E[e].faces[1], a, b, mid);
+      if (f0 == f1) continue;
+      // faces[0] runs along the edge from a to b: Front on the left means its direction.
+      Segment s;
+      s.edge = static_cast<int>(e);
+      if (f0) {
+        s.p = breaks[k].point, s.q = breaks[k + 1].point, s.rp = breaks[k].r, s.rq = breaks[k + 1].r;
+      } else {
+        s.p = breaks[k + 1].point, s.q = breaks[k].point, s.rp = breaks[k + 1].r, s.rq = breaks[k].r;
+      }
+      segs.push_back(s);
+    }
+  }
+  auto zeroOn = [&](int f, int e) { return zero[e][E[e].faces[0] == f ? 0 : 1]; };
+
+  // The polygon of face f on one side (sign +1: front, -1: back) through its corners and zeros,
+  // in the face's winding, without the points that only subdivide sides (added later).
+  auto sidePolygon = [&](int f, int sign) {
+    std::vector<Corner> poly;
+    for (int k = 0; k < 3; ++k) {
+      const int v = F[f][k];
+      const double gk = gs.corner_values[f][k], gn = gs.corner_values[f][(k + 1) % 3];
+      if (sign * gk >= 0) poly.push_back({v, true, sgn(gk) == 0});
+      if (sgn(gk) * sgn(gn) < 0) poly.push_back({zeroOn(f, FE[f][k]), true, true});
+    }
+    return poly;
+  };
+
+  // 2. Chords of split faces: from the front polygon's first zero to its second.
+  std::vector<int> chord_segment(nf, -1);
+  for (std::size_t f = 0; f < nf; ++f) {
+    if (part[f] != kSplit) continue;
+    const std::vector<Corner> poly = sidePolygon(static_cast<int>(f), +1);
+    const std::size_t n = poly.size();
+    for (std::size_t i = 0; i < n; ++i)
+      if (poly[i].zero && poly[(i + 1) % n].zero) {
+        Segment s;
+        s.p = poly[i].point;
+        s.q = poly[(i + 1) % n].point;
+        s.face = static_cast<int>(f);
+        chord_segment[f] = static_cast<int>(segs.size());
+        segs.push_back(s);
+        break;
+      }
+  }
+
+  // 3. Connected components of the boundary curves; one time grid each (condition (1)).
+  const double mu = spectralBound(M);
+  std::vector<int> parent(pt.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  for (const Segment& s : segs) parent[findRoot(parent, s.p)] = findRoot(parent, s.q);
+  std::vector<int> comp_of(pt.size(), -1), local(pt.size(), -1);
+  std::vector<std::vector<int>> comp_points;
+  {
+    std::vector<int> comp_of_root(pt.size(), -1);
+    for (const Segment& s : segs)
+      for (int q : {s.p, s.q}) {
+        if (comp_of[q] >= 0) continue;
+        int& c = comp_of_root[findRoot(parent, q)];
+        if (c < 0) {
+          c = static_cast<int>(comp_points.size());
+          comp_points.emplace_back();
+        }
+        comp_of[q] = c;
+        local[q] = static_cast<int>(comp_points[c].size());
+        comp_points[c].push_back(q);
+      }
+  }
+  auto poseAt = [&](double tau, bool first, bool last) {
+    return first ? start : last ? end_pose : span.pose(tau);
+  };
+  struct Grid {
+    std::vector<double> tau;
+    std::vector<Affine3> pose;
+    std::vector<std::vector<Vec>> world;  // [row][local point]
+  };
+  std::vector<Grid> grids(comp_points.size());
+  for (std::size_t c = 0; c < comp_points.size(); ++c) {
+    Grid& grid = grids[c];
+    double tau = 0.0;
+    for (bool first = true;; first = false) {
+      const bool last = !first && tau >= 1.0;
+      const Affine3 pose = poseAt(tau, first, last);
+      std::vector<Vec> row;
+      row.reserve(comp_points[c].size());
+      double accel = 0.0;  // max |M v| over the points (tessellation.hpp)
+      for (int q : comp_points[c]) {
+        row.push_back(pose(pt[q]));
+        accel = std::max(accel, (M * (M * row.back() + u)).norm());
+      }
+      grid.tau.push_back(tau);
+      grid.pose.push_back(pose);
+      grid.world.push_back(std::move(row));
+      if (last) break;
+      if (static_cast<int>(grid.tau.size()) > max_steps)
+        throw Error(ErrorCode::InvalidArgument, where + ": more than " + std::to_string(max_steps) +
+                                                    " time steps for tolerance " + std::to_string(eps) +
+                                                    "; raise the tolerance (or max_steps)");
+      tau = nextGridTime(tau, accel, mu, eps);
+    }
+  }
+
+  // 4. Pieces per segment (condition (2)) and their subdivision points, which the caps share.
+  std::vector<std::vector<int>> sub(segs.size());  // interior points from p to q
+  for (std::size_t j = 0; j < segs.size(); ++j) {
+    Segment& s = segs[j];
+    const Grid& grid = grids[comp_of[s.p]];
+    double twist = 0.0;
+    for (std::size_t k = 0; k + 1 < grid.tau.size(); ++k) {
+      const Vec e = grid.world[k][local[s.q]] - grid.world[k][local[s.p]];
+      twist = std::max(twist, cellTwist(grid.tau[k + 1] - grid.tau[k], mu, (M * e).norm()));
+    }
+    const int m = piecesFor(twist, eps, max_steps, where + ", boundary segment " + std::to_string(j));
+    for (int i = 1; i < m; ++i) {
+      const double t = static_cast<double>(i) / m;
+      const Vec x = (1 - t) * pt[s.p] + t * pt[s.q];
+      const int id = addPoint(x);
+      sub[j].push_back(id);
+      if (s.edge >= 0) on_edge[s.edge].push_back({s.rp + t * (s.rq - s.rp), id});
+    }
+  }
+  for (auto& list : on_edge)
+    std::sort(list.begin(), list.end(), [](const EdgePoint& x, const EdgePoint& y) { return x.r < y.r; });
+
+  // Vertices of points at τ = 0 and τ = 1 (shared by caps and strips); fixed points keep one.
+  const std::size_t np = pt.size();
+  std::vector<int> id0(np, -1), id1(np, -1);
+  std::vector<char> fixed(np, 0);
+  for (std::size_t q = 0; q < np; ++q)
+    fixed[q] = !gs.stationary && (M * start(pt[q]) + u).norm() <= kFixedSpeed * gs.speed;
+  auto vertex = [&](const Vec& x) {
+    out.vertices.push_back(x);
+    return static_cast<int>(out.vertices.size()) - 1;
+  };
+  auto at0 = [&](int q) {
+    if (id0[q] < 0) id0[q] = vertex(start(pt[q]));
+    return id0[q];
+  };
+  auto at1 = [&](int q) {
+    if (fixed[q]) return at0(q);
+    if (id1[q] < 0) id1[q] = vertex(end_pose(pt[q]));
+    return id1[q];
+  };
+
+  // 5. Caps: Back (and Grazing) polygons at τ = 0, Front polygons at τ = 1, with every point
+  // that lies on their sides, fanned into triangles.
+  auto emitPolygon = [&](int f, std::vector<Corner> poly, bool at_end) {
+    // Insert the points that subdivide the sides: along face edges, and along the chord.
+    std::vector<Corner> full;
+    const std::size_t n = poly.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      const Corner& x = poly[i];
+      const Corner& y = poly[(i + 1) % n];
+      full.push_back(x);
+      if (x.zero && y.zero && part[f] == kSplit) {  // the chord
+        const Segment& s = segs[chord_segment[f]];
+        const auto& list = sub[chord_segment[f]];
+        if (s.p == x.point)
+          for (int q : list) full.push_back({q, false, false});
+        else
+          for (auto it = list.rbegin(); it != list.rend(); ++it) full.push_back({*it, false, false});
+        continue;
+      }
+      // Along a face edge: find the edge holding both points and their parameters.
+      for (int k = 0; k < 3; ++k) {
+        const int e = FE[f][k];
+        const int a = E[e].vertices[0], b = E[e].vertices[1];
+        auto param = [&](int q, double& r) {
+          if (q == a) return r = 0.0, true;
+          if (q == b) return r = 1.0, true;
+          for (const EdgePoint& ep : on_edge[e])
+            if (ep.point == q) return r = ep.r, true;
+          return false;
+        };
+        double rx = 0, ry = 0;
+        if (!param(x.point, rx) || !param(y.point, ry)) continue;
+        if (rx < ry) {
+          for (const EdgePoint& ep : on_edge[e])
+            if (ep.r > rx && ep.r < ry) full.push_back({ep.point, false, false});
+        } else {
+          for (auto it = on_edge[e].rbegin(); it != on_edge[e].rend(); ++it)
+            if (it->r < rx && it->r > ry) full.push_back({it->point, false, false});
+        }
+        break;
+      }
+    }
+    auto id = [&](int q) { return at_end ? at1(q) : at0(q); };
+    const std::size_t m = full.size();
+    const bool plain = std::all_of(full.begin(), full.end(), [](const Corner& c) { return c.true_corner; });
+    if (m == 3) {
+      out.triangles.push_back({{id(full[0].point), id(full[1].point), id(full[2].point)}});
+      ++out.cap_triangles;
+      return;
+    }
+    if (plain && m == 4) {  // a convex quad: split along its shorter diagonal
+      const double d02 = (pt[full[0].point] - pt[full[2].point]).squaredNorm();
+      const double d13 = (pt[full[1].point] - pt[full[3].point]).squaredNorm();
+      const int o = d02 <= d13 ? 0 : 1;
+      const int a = id(full[o].point), b = id(full[o + 1].point), c = id(full[o + 2].point),
+                d = id(full[(o + 3) % 4].point);
+      out.triangles.push_back({{a, b, c}});
+      out.triangles.push_back({{a, c, d}});
+      out.cap_triangles += 2;
+      return;
+    }
+    // A fan around the centroid of the true corners (inside the convex polygon).
+    Vec centroid = Vec::Zero();
+    int count = 0;
+    for (const Corner& c : full)
+      if (c.true_corner) centroid += pt[c.point], ++count;
+    centroid /= count;
+    const int cv = vertex((at_end ? end_pose : start)(centroid));
+    for (std::size_t i = 0; i < m; ++i) {
+      out.triangles.push_back({{cv, id(full[i].point), id(full[(i + 1) % m].point)}});
+      ++out.cap_triangles;
+    }
+  };
+  for (std::size_t f = 0; f < nf; ++f) {
+    const int fi = static_cast<int>(f);
+    if (part[f] == kSplit) {
+      emitPolygon(fi, sidePolygon(fi, -1), false);
+      emitPolygon(fi, sidePolygon(fi, +1), true);
+    } else {
+      std::vector<Corner> whole{{F[f][0], true, false}, {F[f][1], true, false}, {F[f][2], true, false}};
+      emitPolygon(fi, whole, part[f] == kFront);
+    }
+  }
+
+  // 6. Strips: vertices of the component points at the interior grid rows, then two triangles
+  // per cell, oriented so that the strip's τ = 1 side runs against the Front polygon's.
+  std::vector<std::vector<std::vector<int>>> rows(grids.size());  // [comp][row][local]
+  for (std::size_t c = 0; c < grids.size(); ++c) {
+    const std::size_t K = grids[c].tau.size() - 1;
+    rows[c].resize(K + 1);
+    for (std::size_t k = 0; k <= K; ++k)
+      for (std::size_t i = 0; i < comp_points[c].size(); ++i) {
+        const int q = comp_points[c][i];
+        rows[c][k].push_back(k == 0 || fixed[q] ? at0(q) : k == K ? at1(q) : vertex(grids[c].world[k][i]));
+      }
+  }
+  for (std::size_t j = 0; j < segs.size(); ++j) {
+    const Segment& s = segs[j];
+    const int c = comp_of[s.p];
+    const Grid& grid = grids[c];
+    const std::size_t K = grid.tau.size() - 1;
+    const std::size_t m = sub[j].size() + 1;
+    std::vector<int> prev, cur(m + 1);
+    for (std::size_t k = 0; k <= K; ++k) {
+      cur[0] = rows[c][k][local[s.p]];
+      cur[m] = rows[c][k][local[s.q]];
+      for (std::size_t i = 1; i < m; ++i) {
+        const int q = sub[j][i - 1];
+        cur[i] = k == 0 || fixed[q] ? at0(q) : k == K ? at1(q) : vertex(grid.pose[k](pt[q]));
+      }
+      if (k > 0)
+        for (std::size_t i = 0; i < m; ++i) {
+          const std::array<std::array<int, 3>, 2> cell{{{{prev[i], prev[i + 1], cur[i + 1]}},
+                                                        {{prev[i], cur[i + 1], cur[i]}}}};
+          for (const auto& t : cell) {
+            if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) continue;  // a fixed point's cell
+            out.triangles.push_back(t);
+            ++out.strip_triangles;
+          }
+        }
+      prev = cur;
+    }
+  }
+}
+
+}  // namespace steady::sweep::detail

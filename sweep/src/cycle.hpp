@@ -1,0 +1,34 @@
+#pragma once
+// The sweep cycle Q (see envelope.hpp): a closed, consistently oriented, possibly
+// self-intersecting triangle surface whose region of positive winding number is the swept
+// volume. Internal to steady::sweep.
+#include <steady/core/motion.hpp>
+#include <steady/sweep/body.hpp>
+#include <steady/sweep/grazing.hpp>
+
+#include <Eigen/Core>
+
+#include <array>
+#include <cstddef>
+#include <vector>
+
+namespace steady::sweep::detail {
+
+struct Cycle {
+  std::vector<Eigen::Vector3d> vertices;      // world coordinates
+  std::vector<std::array<int, 3>> triangles;  // oriented: Q's winding number is >= 0
+  std::size_t cap_triangles = 0;
+  std::size_t strip_triangles = 0;
+};
+
+// Appends the cycle of `body` on `span` to `out`:
+//   Back (with the Grazing faces) at τ = 0, Front at τ = 1 (posed by `end_pose`, the span's
+//   end; a polySAM passes the next span's start so that joints coincide exactly), and the
+//   strips swept by the boundary curves of Front, oriented with Front on their left.
+// Caps are cut exactly along the grazing chords; every point where a strip meets a cap is a
+// vertex of both (no T-junction), so Q is closed as a chain: every directed edge is matched by
+// its reverse. eps is the tessellation tolerance (tessellation.hpp).
+void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affine3& end_pose, double eps,
+                     const GrazingOptions& grazing, int max_steps, int span_index);
+
+}  // namespace steady::sweep::detail

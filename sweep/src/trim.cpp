@@ -1,0 +1,738 @@
+// The envelope: the sweep cycle (cycle.cpp), its exact arrangement, winding numbers, selection.
+// The only translation unit of steady::sweep's envelope with CGAL in it (CGAL is slow to
+// compile); nothing of CGAL leaves this file.
+//
+// 1. Arrangement. Vertices of the cycle with equal coordinates are merged. Pairs of triangles
+//    whose boxes meet (CGAL::box_self_intersection_d) are tested with exact predicates on the
+//    double input (Epick); the pairs that cross are intersected in exact arithmetic (Epeck), and
+//    each crossed triangle is re-triangulated by a constrained Delaunay triangulation of its
+//    plane (projected along its dominant normal axis) with the intersection segments and points
+//    as constraints. Points are identified by exact equality, so the refined triangles meet
+//    only at shared edges and vertices (coplanar overlaps become shared regions).
+// 2. Labels. Faces joined across edges that have exactly two faces, traversed in opposite
+//    directions, form patches; the winding number is constant on each side of a patch. For each
+//    patch one exact ray (from a point inside one of its faces, nearly along the face normal's
+//    dominant axis, randomly tilted) counts the signed crossings of all other faces: the winding
+//    number w on the patch's front side. Faces coplanar with the ray's origin and containing it
+//    (overlapping copies) add their orientation to the jump across the patch instead. A ray
+//    through an edge or a vertex of some face is re-cast from another point and direction.
+// 3. Selection. The envelope is the set of faces with w = 0 on one side and w >= 1 on the other,
+//    oriented towards w = 0; of overlapping copies one is kept. Coordinates are rounded to
+//    double at the very end.
+#define CGAL_NO_CDT_2_WARNING
+
+#include <steady/sweep/envelope.hpp>
+
+#include "cycle.hpp"
+
+#include <steady/core/error.hpp>
+
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+#include <CGAL/box_intersection_d.h>
+#include <CGAL/intersections.h>
+
+#include <Eigen/Geometry>  // cross products
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <numeric>
+#include <random>
+#include <string>
+#include <unordered_map>
+#include <variant>
+
+namespace steady::sweep {
+
+namespace {
+
+using EK = CGAL::Epeck;
+using IK = CGAL::Epick;
+using EPoint = EK::Point_3;
+using IPoint = IK::Point_3;
+using Vec = Eigen::Vector3d;
+using Tri = std::array<int, 3>;
+using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::size_t>;
+
+double seconds(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+int findRoot(std::vector<int>& parent, int x) {
+  while (parent[x] != x) x = parent[x] = parent[parent[x]];
+  return x;
+}
+
+std::uint64_t edgeKey(int a, int b) {
+  if (a > b) std::swap(a, b);
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Pairs of triangles that cross (exact predicates on the double input).
+
+// How many vertices (by index) two triangles share, and which.
+int shared(const Tri& s, const Tri& t, int* which) {
+  int n = 0;
+  for (int a : s)
+    for (int b : t)
+      if (a == b) which[n++] = a;
+  return n;
+}
+
+// Whether triangles s and t (indices into P) meet in more than their shared vertices/edge.
+bool crosses(const std::vector<IPoint>& P, const Tri& s, const Tri& t) {
+  int sv[3];
+  const int n = shared(s, t, sv);
+  if (n == 3) return false;  // the same triangle (either orientation): nothing to cut
+  auto side = [&](const Tri& plane, int v) { return CGAL::orientation(P[plane[0]], P[plane[1]], P[plane[2]], P[v]); };
+  auto others = [&](const Tri& x, int* o) {
+    int k = 0;
+    for (int v : x)
+      if (std::find(sv, sv + n, v) == sv + n) o[k++] = v;
+    return k;
+  };
+  if (n == 2) {
+    int os[1], ot[1];
+    others(s, os), others(t, ot);
+    if (side(s, ot[0]) != CGAL::COPLANAR) return false;  // they meet along the edge only
+    // Coplanar: they overlap when the two free vertices lie on the same side of the edge.
+    return CGAL::coplanar_orientation(P[sv[0]], P[sv[1]], P[os[0]], P[ot[0]]) == CGAL::POSITIVE;
+  }
+  if (n == 1) {
+    // t ∩ s is convex and holds the shared vertex v; it holds more exactly when one of its
+    // other extreme points exists, and each of those lies on the edge opposite v of s or of t
+    // (a vertex inside the other triangle, or an edge crossing it).
+    int os[2], ot[2];
+    others(s, os), others(t, ot);
+    const auto a0 = side(t, os[0]), a1 = side(t, os[1]);
+    if (a0 == a1 && a0 != CGAL::COPLANAR) return false;  // s touches t's plane at v only
+    const auto b0 = side(s, ot[0]), b1 = side(s, ot[1]);
+    if (b0 == b1 && b0 != CGAL::COPLANAR) return false;
+    return CGAL::do_intersect(IK::Segment_3(P[os[0]], P[os[1]]), IK::Triangle_3(P[t[0]], P[t[1]], P[t[2]])) ||
+           CGAL::do_intersect(IK::Segment_3(P[ot[0]], P[ot[1]]), IK::Triangle_3(P[s[0]], P[s[1]], P[s[2]]));
+  }
+  return CGAL::do_intersect(IK::Triangle_3(P[s[0]], P[s[1]], P[s[2]]), IK::Triangle_3(P[t[0]], P[t[1]], P[t[2]]));
+}
+
+// Candidate pairs: triangles whose (closed) boxes meet.
+std::vector<std::pair<int, int>> boxPairs(const std::vector<IPoint>& P, const std::vector<Tri>& T) {
+  std::vector<Box> boxes;
+  boxes.reserve(T.size());
+  for (std::size_t i = 0; i < T.size(); ++i)
+    boxes.emplace_back(P[T[i][0]].bbox() + P[T[i][1]].bbox() + P[T[i][2]].bbox(), i);
+  std::vector<std::pair<int, int>> pairs;
+  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
+    pairs.emplace_back(static_cast<int>(a.info()), static_cast<int>(b.info()));
+  });
+  return pairs;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The exact arrangement.
+
+struct Arrangement {
+  std::vector<EPoint> points;
+  std::vector<Tri> faces;
+  std::size_t crossing_pairs = 0;
+};
+
+// A constraint inside one triangle: a segment (a != b) or a point (a == b).
+struct Constraint {
+  EPoint a, b;
+  bool point;
+};
+
+struct VertexInfo {
+  int id = -1;
+};
+using Vb = CGAL::Triangulation_vertex_base_with_info_2<VertexInfo, EK>;
+using Fb = CGAL::Constrained_triangulation_face_base_2<EK>;
+using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
+using CDT = CGAL::Constrained_Delaunay_triangulation_2<EK, Tds, CGAL::Exact_intersections_tag>;
+
+template <class Result>
+void addConstraints(const Result& x, std::vector<Constraint>& into) {
+  if (!x) return;
+  if (const EPoint* p = boost::get<EPoint>(&*x)) {
+    into.push_back({*p, *p, true});
+  } else if (const EK::Segment_3* s = boost::get<EK::Segment_3>(&*x)) {
+    into.push_back({s->source(), s->target(), false});
+  } else if (const EK::Triangle_3* t = boost::get<EK::Triangle_3>(&*x)) {
+    for (int k = 0; k < 3; ++k) into.push_back({t->vertex(k), t->vertex(k + 1), false});
+  } else if (const auto* poly = boost::get<std::vector<EPoint>>(&*x)) {
+    for (std::size_t k = 0; k < poly->size(); ++k)
+      into.push_back({(*poly)[k], (*poly)[(k + 1) % poly->size()], false});
+  }
+}
+
+Arrangement arrange(const std::vector<Vec>& V, const std::vector<Tri>& T0, const SweepOptions& options) {
+  // Merge vertices with equal coordinates (-0 and +0 alike), drop degenerate triangles.
+  std::vector<int> id(V.size());
+  std::vector<IPoint> ip;
+  {
+    struct Hash {
+      std::size_t operator()(const std::array<double, 3>& x) const {
+        std::size_t h = 0;
+        for (double c : x) h = h * 1000003u ^ std::hash<double>()(c == 0 ? 0.0 : c);
+        return h;
+      }
+    };
+    std::unordered_map<std::array<double, 3>, int, Hash> seen;
+    for (std::size_t i = 0; i < V.size(); ++i) {
+      const std::array<double, 3> key{{V[i].x() + 0.0, V[i].y() + 0.0, V[i].z() + 0.0}};
+      auto [it, added] = seen.emplace(key, static_cast<int>(ip.size()));
+      if (added) ip.emplace_back(key[0], key[1], key[2]);
+      id[i] = it->second;
+    }
+  }
+  std::vector<Tri> T;
+  T.reserve(T0.size());
+  for (const Tri& t : T0) {
+    const Tri m{{id[t[0]], id[t[1]], id[t[2]]}};
+    if (m[0] == m[1] || m[1] == m[2] || m[2] == m[0]) continue;
+    if (CGAL::collinear(ip[m[0]], ip[m[1]], ip[m[2]])) continue;  // no area: no winding number
+    T.push_back(m);
+  }
+
+  // Crossing pairs and their exact intersections.
+  const auto pairs = boxPairs(ip, T);
+  Arrangement out;
+  out.points.reserve(ip.size());
+  for (const IPoint& p : ip) out.points.emplace_back(p.x(), p.y(), p.z());
+  std::vector<std::vector<Constraint>> cons(T.size());
+  const auto& EP = out.points;
+  std::size_t done = 0;
+  for (const auto& [i, j] : pairs) {
+    if (options.progress && ++done % 4096 == 0)
+      options.progress({"intersect", 0.5 * static_cast<double>(done) / static_cast<double>(pairs.size())});
+    if (!crosses(ip, T[i], T[j])) continue;
+    const EK::Triangle_3 a(EP[T[i][0]], EP[T[i][1]], EP[T[i][2]]), b(EP[T[j][0]], EP[T[j][1]], EP[T[j][2]]);
+    const auto x = CGAL::intersection(a, b);
+    const std::size_t before_i = cons[i].size();
+    addConstraints(x, cons[i]);
+    cons[j].insert(cons[j].end(), cons[i].begin() + static_cast<std::ptrdiff_t>(before_i), cons[i].end());
+    ++out.crossing_pairs;
+  }
+
+  // Re-triangulate every crossed triangle; points are identified by exact equality.
+  std::map<EPoint, int> index;
+  for (std::size_t v = 0; v < EP.size(); ++v) index.emplace(EP[v], static_cast<int>(v));
+  auto pointId = [&](const EPoint& p) {
+    auto [it, added] = index.emplace(p, static_cast<int>(out.points.size()));
+    if (added) out.points.push_back(p);
+    return it->second;
+  };
+  for (std::size_t t = 0; t < T.size(); ++t) {
+    if (options.progress && t % 4096 == 0)
+      options.progress({"intersect", 0.5 + 0.5 * static_cast<double>(t) / static_cast<double>(T.size())});
+    if (cons[t].empty()) {
+      out.faces.push_back(T[t]);
+      continue;
+    }
+    const EPoint A = out.points[T[t][0]], B = out.points[T[t][1]], C = out.points[T[t][2]];
+    const EK::Vector_3 n = CGAL::cross_product(B - A, C - A);
+    // Drop the coordinate k of the largest |n_k|; (k+1, k+2) keeps the orientation iff n_k > 0.
+    int k = 0;
+    double best = -1;
+    for (int c = 0; c < 3; ++c)
+      if (std::abs(CGAL::to_double(n[c])) > best) best = std::abs(CGAL::to_double(n[c])), k = c;
+    const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+    const bool flip = CGAL::is_negative(n[k]);
+    auto project = [&](const EPoint& p) { return EK::Point_2(p[k1], p[k2]); };
+    CDT cdt;
+    const int corner[3] = {T[t][0], T[t][1], T[t][2]};
+    for (int c = 0; c < 3; ++c) cdt.insert(project(out.points[corner[c]]))->info().id = corner[c];
+    for (const Constraint& c : cons[t]) {
+      if (c.point)
+        cdt.insert(project(c.a));
+      else if (c.a != c.b)
+        cdt.insert_constraint(project(c.a), project(c.b));
+    }
+    for (auto v : cdt.finite_vertex_handles()) {
+      if (v->info().id >= 0) continue;
+      // Lift onto the triangle's plane: n·(X - A) = 0 solved for X_k (exact).
+      const EK::FT xk1 = v->point().x(), xk2 = v->point().y();
+      const EK::FT xk = A[k] - (n[k1] * (xk1 - A[k1]) + n[k2] * (xk2 - A[k2])) / n[k];
+      EK::FT c3[3];
+      c3[k] = xk, c3[k1] = xk1, c3[k2] = xk2;
+      v->info().id = pointId(EPoint(c3[0], c3[1], c3[2]));
+    }
+    for (auto f : cdt.finite_face_handles()) {
+      Tri r{{f->vertex(0)->info().id, f->vertex(1)->info().id, f->vertex(2)->info().id}};
+      if (flip) std::swap(r[1], r[2]);
+      out.faces.push_back(r);
+    }
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Winding numbers of the patches.
+
+struct Labels {
+  std::vector<int> patch;      // per face
+  std::vector<int> w_front;    // per patch: winding number on the side the faces' normals face
+  std::vector<int> jump;       // per patch: w_back - w_front (overlapping copies included)
+  std::vector<int> group;      // per patch: smallest patch among its overlapping copies
+  std::size_t retries = 0;
+};
+
+Labels label(const Arrangement& A, const SweepOptions& options) {
+  const auto& P = A.points;
+  const auto& T = A.faces;
+  const std::size_t nf = T.size();
+  Labels L;
+
+  // Patches: faces joined across edges with exactly two faces in opposite directions.
+  std::unordered_map<std::uint64_t, std::vector<int>> edge_faces;  // signed: face + 1, or -(face + 1)
+  edge_faces.reserve(3 * nf);
+  for (std::size_t f = 0; f < nf; ++f)
+    for (int c = 0; c < 3; ++c) {
+      const int a = T[f][c], b = T[f][(c + 1) % 3];
+      edge_faces[edgeKey(a, b)].push_back(a < b ? static_cast<int>(f) + 1 : -static_cast<int>(f) - 1);
+    }
+  std::vector<int> parent(nf);
+  std::iota(parent.begin(), parent.end(), 0);
+  for (const auto& [key, list] : edge_faces)
+    if (list.size() == 2 && (list[0] > 0) != (list[1] > 0))
+      parent[findRoot(parent, std::abs(list[0]) - 1)] = findRoot(parent, std::abs(list[1]) - 1);
+  L.patch.assign(nf, -1);
+  std::vector<int> rep;  // per patch: its largest face (approximate area)
+  std::vector<double> rep_area;
+  std::vector<int> patch_of_root(nf, -1);
+  std::vector<Vec> approx(P.size());
+  for (std::size_t v = 0; v < P.size(); ++v)
+    approx[v] = Vec(CGAL::to_double(P[v].x()), CGAL::to_double(P[v].y()), CGAL::to_double(P[v].z()));
+  for (std::size_t f = 0; f < nf; ++f) {
+    int& p = patch_of_root[findRoot(parent, static_cast<int>(f))];
+    if (p < 0) {
+      p = static_cast<int>(rep.size());
+      rep.push_back(static_cast<int>(f));
+      rep_area.push_back(-1);
+    }
+    L.patch[f] = p;
+    const double area =
+        (approx[T[f][1]] - approx[T[f][0]]).cross(approx[T[f][2]] - approx[T[f][0]]).norm();
+    if (area > rep_area[p]) rep_area[p] = area, rep[p] = static_cast<int>(f);
+  }
+  const std::size_t np = rep.size();
+
+  // Face boxes (approximate coordinates, widened so that they hold the exact triangles).
+  Vec lo = Vec::Constant(HUGE_VAL), hi = -lo;
+  for (const Vec& x : approx) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+  const double size = (hi - lo).norm() + 1.0;
+  const double pad = 1e-9 * size;
+  std::vector<Box> face_boxes;
+  face_boxes.reserve(nf);
+  for (std::size_t f = 0; f < nf; ++f) {
+    Vec a = approx[T[f][0]].cwiseMin(approx[T[f][1]]).cwiseMin(approx[T[f][2]]);
+    Vec b = approx[T[f][0]].cwiseMax(approx[T[f][1]]).cwiseMax(approx[T[f][2]]);
+    double pa[3] = {a.x() - pad, a.y() - pad, a.z() - pad}, pb[3] = {b.x() + pad, b.y() + pad, b.z() + pad};
+    face_boxes.emplace_back(pa, pb, f);
+  }
+
+  // Rays: origin inside the representative face, end far outside the scene.
+  struct Ray {
+    EPoint from, to;
+    EK::Vector_3 normal;  // of the representative face
+    int crossings = 0, jump = 0, group = 0;
+    bool degenerate = false;
+  };
+  std::mt19937_64 rng(0x5eed5eedULL);
+  std::uniform_real_distribution<double> tilt(-1e-3, 1e-3), bary(0.2, 0.4);
+  auto makeRay = [&](int p, bool centroid) {
+    const Tri& t = T[rep[p]];
+    const EPoint &a = P[t[0]], &b = P[t[1]], &c = P[t[2]];
+    Ray r;
+    r.normal = CGAL::cross_product(b - a, c - a);
+    const double w1 = centroid ? 1.0 / 3 : bary(rng), w2 = centroid ? 1.0 / 3 : bary(rng);
+    r.from = a + (b - a) * EK::FT(w1) + (c - a) * EK::FT(w2);
+    const Vec n = (approx[t[1]] - approx[t[0]]).cross(approx[t[2]] - approx[t[0]]);
+    int k = 0;
+    n.cwiseAbs().maxCoeff(&k);
+    Vec d(tilt(rng), tilt(rng), tilt(rng));
+    d[k] = n[k] > 0 ? 1.0 : -1.0;
+    const Vec to = approx[t[0]] + 4.0 * size * d;
+    r.to = EPoint(to.x(), to.y(), to.z());
+    r.group = p;
+    return r;
+  };
+  L.w_front.assign(np, 0);
+  L.jump.assign(np, 0);
+  L.group.assign(np, 0);
+  std::vector<int> todo(np);
+  std::iota(todo.begin(), todo.end(), 0);
+  for (int round = 0; !todo.empty(); ++round) {
+    if (round == 16)
+      throw Error(ErrorCode::DegenerateInput,
+                  "sweptEnvelope: " + std::to_string(todo.size()) +
+                      " patches of the swept surface could not be labelled (every ray met an edge); "
+                      "this is a bug: please report it with the body and the motion");
+    if (options.progress) options.progress({"label", round == 0 ? 0.0 : 0.9});
+    std::vector<Ray> rays;
+    rays.reserve(todo.size());
+    for (int p : todo) rays.push_back(makeRay(p, round == 0));
+    std::vector<Box> ray_boxes;
+    ray_boxes.reserve(rays.size());
+    for (std::size_t r = 0; r < rays.size(); ++r) {
+      const CGAL::Bbox_3 b = rays[r].from.bbox() + rays[r].to.bbox();
+      double pa[3] = {b.xmin() - pad, b.ymin() - pad, b.zmin() - pad};
+      double pb[3] = {b.xmax() + pad, b.ymax() + pad, b.zmax() + pad};
+      ray_boxes.emplace_back(pa, pb, r);
+    }
+    CGAL::box_intersection_d(
+        ray_boxes.begin(), ray_boxes.end(), face_boxes.begin(), face_boxes.end(), [&](const Box& rb, const Box& fb) {
+          Ray& r = rays[rb.info()];
+          if (r.degenerate) return;
+          const Tri& t = T[fb.info()];
+          const EPoint &a = P[t[0]], &b = P[t[1]], &c = P[t[2]];
+          const auto s_from = CGAL::orientation(a, b, c, r.from);
+          if (s_from == CGAL::COPLANAR) {
+            // The origin lies in this face's plane: an overlapping copy when inside the face.
+            const auto o1 = CGAL::coplanar_orientation(a, b, c, r.from);
+            const auto o2 = CGAL::coplanar_orientation(b, c, a, r.from);
+            const auto o3 = CGAL::coplanar_orientation(c, a, b, r.from);
+            if (o1 == CGAL::NEGATIVE || o2 == CGAL::NEGATIVE || o3 == CGAL::NEGATIVE) return;  // outside
+            if (o1 == CGAL::COLLINEAR || o2 == CGAL::COLLINEAR || o3 == CGAL::COLLINEAR) {
+              r.degenerate = true;  // on its boundary: try another point
+              return;
+            }
+            const EK::Vector_3 m = CGAL::cross_product(b - a, c - a);
+            r.jump += CGAL::is_positive(m * r.normal) ? 1 : -1;
+            r.group = std::min(r.group, L.patch[fb.info()]);
+            return;
+          }
+          const auto s_to = CGAL::orientation(a, b, c, r.to);
+          if (s_to == s_from || s_to == CGAL::COPLANAR) return;  // does not cross the plane
+          const auto o1 = CGAL::orientation(r.from, r.to, a, b), o2 = CGAL::orientation(r.from, r.to, b, c),
+                     o3 = CGAL::orientation(r.from, r.to, c, a);
+          if (o1 == CGAL::COPLANAR || o2 == CGAL::COPLANAR || o3 == CGAL::COPLANAR) {
+            // The ray's line meets an edge's line: it hits the triangle's boundary (ambiguous:
+            // try another ray) unless two of the non-zero signs differ (it misses).
+            const bool p = o1 == CGAL::POSITIVE || o2 == CGAL::POSITIVE || o3 == CGAL::POSITIVE;
+            const bool q = o1 == CGAL::NEGATIVE || o2 == CGAL::NEGATIVE || o3 == CGAL::NEGATIVE;
+            if (!(p && q)) r.degenerate = true;
+            return;
+          }
+          if (o1 != o2 || o2 != o3) return;  // misses the triangle
+          // Leaving through the face along its normal counts +1 (the origin is behind it).
+          r.crossings += s_from == CGAL::NEGATIVE ? 1 : -1;
+        });
+    std::vector<int> again;
+    for (std::size_t r = 0; r < rays.size(); ++r) {
+      const int p = todo[r];
+      if (rays[r].degenerate) {
+        again.push_back(p);
+        continue;
+      }
+      L.w_front[p] = rays[r].crossings;
+      L.jump[p] = rays[r].jump;
+      L.group[p] = rays[r].group;
+    }
+    L.retries += again.size();
+    todo.swap(again);
+  }
+  return L;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+// Removes the cavities (shells of negative volume) whose mean thickness 2|V|/A is at most eps:
+// pockets pinched between a cap and a strip that leaves it tangentially, artefacts of the
+// tessellation (the true surfaces are within eps of each other there). Returns how many.
+std::size_t dropThinCavities(std::vector<Tri>& T, double eps, const std::vector<Vec>& V) {
+  std::vector<int> parent(T.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  std::unordered_map<std::uint64_t, int> first;
+  first.reserve(3 * T.size());
+  for (std::size_t f = 0; f < T.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      auto [it, added] = first.emplace(edgeKey(T[f][k], T[f][(k + 1) % 3]), static_cast<int>(f));
+      if (!added) parent[findRoot(parent, it->second)] = findRoot(parent, static_cast<int>(f));
+    }
+  std::unordered_map<int, std::array<double, 2>> shell;  // root -> (volume, area)
+  for (std::size_t f = 0; f < T.size(); ++f) {
+    const Vec &a = V[T[f][0]], &b = V[T[f][1]], &c = V[T[f][2]];
+    auto& x = shell[findRoot(parent, static_cast<int>(f))];
+    x[0] += a.dot(b.cross(c)) / 6.0;
+    x[1] += 0.5 * (b - a).cross(c - a).norm();
+  }
+  std::size_t dropped = 0;
+  for (const auto& [root, x] : shell) dropped += x[0] < 0 && 2 * -x[0] <= eps * x[1];
+  if (dropped)
+    T.erase(std::remove_if(T.begin(), T.end(),
+                           [&](const Tri& t) {
+                             const auto& x = shell[findRoot(parent, static_cast<int>(&t - T.data()))];
+                             return x[0] < 0 && 2 * -x[0] <= eps * x[1];
+                           }),
+            T.end());
+  return dropped;
+}
+
+// Gives every vertex whose faces form several fans (the surface touches itself there) one
+// copy per extra fan, so that the mesh is a 2-manifold. Requires a closed, oriented mesh.
+// Returns the number of copies made.
+std::size_t splitPinchedVertices(std::vector<Vec>& V, std::vector<Tri>& T) {
+  std::vector<std::vector<std::pair<int, int>>> corners(V.size());  // (face, corner)
+  for (std::size_t f = 0; f < T.size(); ++f)
+    for (int k = 0; k < 3; ++k) corners[T[f][k]].push_back({static_cast<int>(f), k});
+  std::size_t copies = 0;
+  const std::size_t nv = V.size();
+  for (std::size_t v = 0; v < nv; ++v) {
+    auto& cs = corners[v];
+    if (cs.size() < 3) continue;
+    // Around v, face (v, b, c) leads to the face that has (v, c, ...): follow the fans.
+    std::unordered_map<int, std::size_t> by_next;  // b -> corner index
+    for (std::size_t i = 0; i < cs.size(); ++i) by_next[T[cs[i].first][(cs[i].second + 1) % 3]] = i;
+    std::vector<char> seen(cs.size(), 0);
+    bool first_fan = true;
+    for (std::size_t i = 0; i < cs.size(); ++i) {
+      if (seen[i]) continue;
+      const int target = first_fan ? static_cast<int>(v) : static_cast<int>(V.size());
+      if (!first_fan) V.push_back(V[v]), ++copies;
+      first_fan = false;
+      for (std::size_t j = i; !seen[j];) {
+        seen[j] = 1;
+        T[cs[j].first][cs[j].second] = target;
+        const int c = T[cs[j].first][(cs[j].second + 2) % 3];
+        auto it = by_next.find(c);
+        if (it == by_next.end()) break;
+        j = it->second;
+      }
+    }
+  }
+  return copies;
+}
+
+void computeCheck(MeshCheck& c, const std::vector<Vec>& V, const std::vector<Tri>& T, bool self) {
+  // Directed edges: closed and oriented when every edge has one face each way.
+  std::unordered_map<std::uint64_t, std::array<int, 2>> edges;  // [a<b direction count, other]
+  edges.reserve(3 * T.size());
+  for (const Tri& t : T)
+    for (int k = 0; k < 3; ++k) {
+      const int a = t[k], b = t[(k + 1) % 3];
+      ++edges[edgeKey(a, b)][a < b ? 0 : 1];
+    }
+  c.closed = true;
+  c.oriented = true;
+  for (const auto& [key, n] : edges) {
+    if (n[0] + n[1] != 2) c.closed = false;
+    if (n[0] != n[1]) c.oriented = false;
+  }
+  // Shells through shared edges; vertex fans for manifoldness.
+  std::vector<int> parent(T.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  {
+    std::unordered_map<std::uint64_t, int> first;
+    first.reserve(3 * T.size());
+    for (std::size_t f = 0; f < T.size(); ++f)
+      for (int k = 0; k < 3; ++k) {
+        auto [it, added] = first.emplace(edgeKey(T[f][k], T[f][(k + 1) % 3]), static_cast<int>(f));
+        if (!added) parent[findRoot(parent, it->second)] = findRoot(parent, static_cast<int>(f));
+      }
+  }
+  c.shells = 0;
+  for (std::size_t f = 0; f < T.size(); ++f) c.shells += findRoot(parent, static_cast<int>(f)) == static_cast<int>(f);
+  c.manifold = c.closed;
+  if (c.manifold) {
+    // Around each vertex the faces must form a single cycle (a single fan).
+    std::vector<std::vector<std::pair<int, int>>> around(V.size());  // (next, prev) corner pairs
+    for (const Tri& t : T)
+      for (int k = 0; k < 3; ++k) around[t[k]].push_back({t[(k + 1) % 3], t[(k + 2) % 3]});
+    for (auto& fan : around) {
+      if (fan.empty()) continue;
+      std::unordered_map<int, int> next;  // b -> c for each face (v, b, c)
+      for (auto [b, cc] : fan) next[b] = cc;
+      std::size_t steps = 0;
+      int x = fan[0].first;
+      do {
+        auto it = next.find(x);
+        if (it == next.end()) break;
+        x = it->second;
+        ++steps;
+      } while (x != fan[0].first && steps <= fan.size());
+      if (steps != fan.size() || x != fan[0].first) {
+        c.manifold = false;
+        break;
+      }
+    }
+  }
+  c.volume = 0;
+  c.area = 0;
+  for (const Tri& t : T) {
+    const Vec &a = V[t[0]], &b = V[t[1]], &d = V[t[2]];
+    c.volume += a.dot(b.cross(d)) / 6.0;
+    c.area += 0.5 * (b - a).cross(d - a).norm();
+  }
+  std::vector<IPoint> P;
+  P.reserve(V.size());
+  for (const Vec& x : V) P.emplace_back(x.x(), x.y(), x.z());
+  std::vector<char> flat(T.size());
+  c.degenerate_faces = 0;
+  for (std::size_t f = 0; f < T.size(); ++f) {
+    const Tri& t = T[f];
+    flat[f] = t[0] == t[1] || t[1] == t[2] || t[2] == t[0] || CGAL::collinear(P[t[0]], P[t[1]], P[t[2]]);
+    c.degenerate_faces += flat[f];
+  }
+  c.self_intersections = -1;
+  if (self) {
+    long count = 0;
+    for (const auto& [i, j] : boxPairs(P, T)) count += !flat[i] && !flat[j] && crosses(P, T[i], T[j]);
+    c.self_intersections = count;
+  }
+}
+
+Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const SweepOptions& options,
+                    std::chrono::steady_clock::time_point t_start, double t_cycle) {
+  Envelope env;
+  env.tolerance = eps;
+  env.spans = spans;
+  env.cycle_triangles = cycle.triangles.size();
+  env.timings.cycle = t_cycle;
+
+  auto t0 = std::chrono::steady_clock::now();
+  const Arrangement A = arrange(cycle.vertices, cycle.triangles, options);
+  env.intersecting_pairs = A.crossing_pairs;
+  env.arrangement_triangles = A.faces.size();
+  env.timings.intersect = seconds(t0);
+
+  t0 = std::chrono::steady_clock::now();
+  const Labels L = label(A, options);
+  env.patches = L.w_front.size();
+  env.ray_retries = L.retries;
+  env.timings.label = seconds(t0);
+
+  // Faces with w = 0 on one side and w >= 1 on the other, towards w = 0; one of each overlap.
+  t0 = std::chrono::steady_clock::now();
+  if (options.progress) options.progress({"output", 0.0});
+  std::vector<int> used(A.points.size(), -1);
+  for (std::size_t f = 0; f < A.faces.size(); ++f) {
+    const int p = L.patch[f];
+    if (L.group[p] != p) continue;
+    const int front = L.w_front[p], back = L.w_front[p] + L.jump[p];
+    Tri t = A.faces[f];
+    if (front <= 0 && back >= 1) {
+    } else if (back <= 0 && front >= 1) {
+      std::swap(t[1], t[2]);
+    } else {
+      continue;
+    }
+    for (int& v : t) {
+      if (used[v] < 0) {
+        used[v] = static_cast<int>(env.vertices.size());
+        const EPoint& x = A.points[v];
+        env.vertices.emplace_back(CGAL::to_double(x.x()), CGAL::to_double(x.y()), CGAL::to_double(x.z()));
+      }
+      v = used[v];
+    }
+    env.triangles.push_back(t);
+  }
+  // Rounding can map distinct exact points to one double point: merge them, and drop the
+  // triangles that collapse (their two remaining edges cancel, so the surface stays closed).
+  {
+    std::map<std::array<double, 3>, int> at;
+    std::vector<int> to(env.vertices.size());
+    std::vector<Vec> merged;
+    for (std::size_t v = 0; v < env.vertices.size(); ++v) {
+      const Vec& x = env.vertices[v];
+      auto [it, added] = at.emplace(std::array<double, 3>{{x.x() + 0.0, x.y() + 0.0, x.z() + 0.0}},
+                                    static_cast<int>(merged.size()));
+      if (added) merged.push_back(x);
+      to[v] = it->second;
+    }
+    env.rounding_merged = env.vertices.size() - merged.size();
+    if (env.rounding_merged) {
+      std::vector<Tri> kept;
+      for (Tri t : env.triangles) {
+        for (int& v : t) v = to[v];
+        if (t[0] != t[1] && t[1] != t[2] && t[2] != t[0]) kept.push_back(t);
+      }
+      env.triangles.swap(kept);
+      env.vertices.swap(merged);
+    }
+  }
+  env.thin_cavities_removed = dropThinCavities(env.triangles, eps, env.vertices);
+  if (env.thin_cavities_removed) {  // keep only the vertices still in use
+    std::vector<int> keep(env.vertices.size(), -1);
+    std::vector<Vec> kept;
+    for (Tri& t : env.triangles)
+      for (int& v : t) {
+        if (keep[v] < 0) keep[v] = static_cast<int>(kept.size()), kept.push_back(env.vertices[v]);
+        v = keep[v];
+      }
+    env.vertices.swap(kept);
+  }
+  env.pinched_vertices_split = splitPinchedVertices(env.vertices, env.triangles);
+  env.timings.output = seconds(t0);
+
+  t0 = std::chrono::steady_clock::now();
+  computeCheck(env.check, env.vertices, env.triangles, options.check);
+  env.volume = env.check.volume;
+  env.area = env.check.area;
+  env.timings.check = seconds(t0);
+  env.timings.total = seconds(t_start);
+  if (options.progress) options.progress({"output", 1.0});
+  return env;
+}
+
+double resolveTolerance(const Body& body, const SweepOptions& o) {
+  if (o.max_steps < 1)
+    throw Error(ErrorCode::InvalidArgument, "SweepOptions::max_steps must be >= 1, got " + std::to_string(o.max_steps));
+  if (o.tolerance) {
+    if (!(std::isfinite(*o.tolerance) && *o.tolerance > 0))
+      throw Error(ErrorCode::InvalidArgument, "SweepOptions::tolerance must be finite and > 0, got " +
+                                                  std::to_string(*o.tolerance) +
+                                                  "; leave it unset for relative_tolerance times the body size");
+    return *o.tolerance;
+  }
+  if (!(std::isfinite(o.relative_tolerance) && o.relative_tolerance > 0))
+    throw Error(ErrorCode::InvalidArgument, "SweepOptions::relative_tolerance must be finite and > 0, got " +
+                                                std::to_string(o.relative_tolerance));
+  return o.relative_tolerance * body.box().diagonal();
+}
+
+}  // namespace
+
+Envelope sweptEnvelope(const Body& body, const Motion3& motion, const SweepOptions& options) {
+  const auto t_start = std::chrono::steady_clock::now();
+  const double eps = resolveTolerance(body, options);
+  detail::Cycle cycle;
+  const std::size_t n = motion.spanCount();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (options.progress) options.progress({"cycle", static_cast<double>(i) / static_cast<double>(n)});
+    // Joints use the next span's start pose, so that consecutive caps coincide exactly.
+    const Affine3 end = i + 1 < n ? motion.span(i + 1).start() : motion.span(i).pose(1.0);
+    detail::appendSpanCycle(cycle, body, motion.span(i), end, eps, options.grazing, options.max_steps,
+                            static_cast<int>(i));
+  }
+  return envelopeOf(std::move(cycle), eps, n, options, t_start, seconds(t_start));
+}
+
+Envelope sweptEnvelope(const Body& body, const Span3& span, const SweepOptions& options) {
+  const auto t_start = std::chrono::steady_clock::now();
+  const double eps = resolveTolerance(body, options);
+  detail::Cycle cycle;
+  if (options.progress) options.progress({"cycle", 0.0});
+  detail::appendSpanCycle(cycle, body, span, span.pose(1.0), eps, options.grazing, options.max_steps, 0);
+  return envelopeOf(std::move(cycle), eps, 1, options, t_start, seconds(t_start));
+}
+
+MeshCheck inspectMesh(const std::vector<Eigen::Vector3d>& vertices, const std::vector<std::array<int, 3>>& triangles,
+                      bool self_intersections) {
+  for (std::size_t f = 0; f < triangles.size(); ++f)
+    for (int v : triangles[f])
+      if (v < 0 || static_cast<std::size_t>(v) >= vertices.size())
+        throw Error(ErrorCode::InvalidArgument, "inspectMesh: face " + std::to_string(f) + " names vertex " +
+                                                    std::to_string(v) + " of " + std::to_string(vertices.size()));
+  MeshCheck c;
+  computeCheck(c, vertices, triangles, self_intersections);
+  return c;
+}
+
+}  // namespace steady::sweep
