@@ -1,0 +1,528 @@
+// The inside test of a swept volume (see inside.hpp for the method, the tolerance and what is
+// guaranteed): a static test at the motion start (distance to the posed surface, then ray
+// parity with filtered orientation signs), then, span by span, the roots of the point/plane
+// functions of the faces near the trajectory of the point seen from the body.
+#include <steady/sweep/inside.hpp>
+
+#include <steady/core/error.hpp>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace steady::sweep {
+
+namespace {
+
+using Vec = Eigen::Vector3d;
+constexpr double kUlp = 0x1.0p-52;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// (e^z - 1) / z for z >= 0, accurate near 0: the path-length factor of a trajectory.
+double pathFactor(double z) { return z < 1e-8 ? 1.0 + 0.5 * z : std::expm1(z) / z; }
+
+// An upper bound of the spectral norm |A|_2 (eigen-solve of A^T A, inflated against its own
+// rounding, capped by the Frobenius norm, which is always an upper bound).
+double spectralBound(const Eigen::Matrix3d& A) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(A.transpose() * A, Eigen::EigenvaluesOnly);
+  return std::min(A.norm(), std::sqrt(std::max(0.0, es.eigenvalues().maxCoeff())) * (1 + 1e-12) + 1e-300);
+}
+
+double segmentDistance(const Vec& p, const Vec& a, const Vec& b) {
+  const Vec e = b - a;
+  const double ee = e.squaredNorm();
+  double t = ee > 0 ? (p - a).dot(e) / ee : 0.0;
+  t = std::min(1.0, std::max(0.0, t));
+  return (p - (a + t * e)).norm();
+}
+
+// Distance from p to the closed triangle (a, b, c): the distance to its plane when the foot
+// of the perpendicular is inside (all three edge tests on the same side as the normal),
+// otherwise the distance to the nearest edge.
+double triangleDistance(const Vec& p, const Vec& a, const Vec& b, const Vec& c) {
+  const Vec n = (b - a).cross(c - a);
+  const double nn = n.squaredNorm();
+  if (nn > 0) {
+    const double off = n.dot(p - a);
+    const Vec q = p - (off / nn) * n;
+    if ((b - a).cross(q - a).dot(n) >= 0 && (c - b).cross(q - b).dot(n) >= 0 && (a - c).cross(q - c).dot(n) >= 0)
+      return std::abs(off) / std::sqrt(nn);
+  }
+  return std::min({segmentDistance(p, a, b), segmentDistance(p, b, c), segmentDistance(p, c, a)});
+}
+
+// Sign of det[a - d, b - d, c - d], or 0 when its magnitude does not exceed the rounding bound
+// of its evaluation (a static filter in the manner of Shewchuk's orient3d, with a factor 8 ulp
+// of the permanent: about twice his bound). `bound` receives the bound.
+int orient(const Vec& a, const Vec& b, const Vec& c, const Vec& d, double& bound) {
+  const Vec p = a - d, q = b - d, r = c - d;
+  const double m0 = q.y() * r.z() - q.z() * r.y();
+  const double m1 = q.x() * r.z() - q.z() * r.x();
+  const double m2 = q.x() * r.y() - q.y() * r.x();
+  const double det = p.x() * m0 - p.y() * m1 + p.z() * m2;
+  const double perm = std::abs(p.x()) * (std::abs(q.y() * r.z()) + std::abs(q.z() * r.y())) +
+                      std::abs(p.y()) * (std::abs(q.x() * r.z()) + std::abs(q.z() * r.x())) +
+                      std::abs(p.z()) * (std::abs(q.x() * r.y()) + std::abs(q.y() * r.x()));
+  bound = 8 * kUlp * perm;
+  if (det > bound) return 1;
+  if (det < -bound) return -1;
+  return 0;
+}
+
+// A bounding-volume hierarchy of the body faces (body coordinates): median splits of the face
+// centroids along the longest axis, up to 4 faces per leaf.
+class FaceTree {
+ public:
+  struct Node {
+    Vec lo, hi;
+    int left = -1, right = -1;  // children (inner node) or -1 (leaf)
+    int first = 0, count = 0;   // leaf: order_[first, first + count)
+  };
+
+  void build(const std::vector<Vec>& vertices, const std::vector<std::array<int, 3>>& faces) {
+    const std::size_t nf = faces.size();
+    flo_.resize(nf);
+    fhi_.resize(nf);
+    std::vector<Vec> centroid(nf);
+    order_.resize(nf);
+    for (std::size_t f = 0; f < nf; ++f) {
+      const Vec& a = vertices[faces[f][0]];
+      const Vec& b = vertices[faces[f][1]];
+      const Vec& c = vertices[faces[f][2]];
+      flo_[f] = a.cwiseMin(b).cwiseMin(c);
+      fhi_[f] = a.cwiseMax(b).cwiseMax(c);
+      centroid[f] = (a + b + c) / 3.0;
+      order_[f] = static_cast<int>(f);
+    }
+    nodes_.clear();
+    nodes_.reserve(2 * nf);
+    split(0, static_cast<int>(nf), centroid);
+  }
+
+  const Vec& faceLo(int f) const { return flo_[f]; }
+  const Vec& faceHi(int f) const { return fhi_[f]; }
+  const Node& root() const { return nodes_.front(); }
+
+  // Calls visit(f) for every face whose box meets the box [lo, hi].
+  template <class Visit>
+  void overlapping(const Vec& lo, const Vec& hi, Visit&& visit) const {
+    forEach([&](const Vec& nlo, const Vec& nhi) { return !((nlo.array() > hi.array()).any() || (lo.array() > nhi.array()).any()); },
+            [&](int f) {
+              if (!((flo_[f].array() > hi.array()).any() || (lo.array() > fhi_[f].array()).any())) visit(f);
+            });
+  }
+
+  // Calls visit(f) for every face whose box, inflated by `pad`, meets the segment [p, q].
+  template <class Visit>
+  void alongSegment(const Vec& p, const Vec& q, double pad, Visit&& visit) const {
+    const Vec d = q - p;
+    auto hits = [&](const Vec& lo, const Vec& hi) {
+      double t0 = 0.0, t1 = 1.0;
+      for (int k = 0; k < 3; ++k) {
+        const double l = lo[k] - pad, h = hi[k] + pad;
+        if (d[k] == 0) {
+          if (p[k] < l || p[k] > h) return false;
+          continue;
+        }
+        double a = (l - p[k]) / d[k], b = (h - p[k]) / d[k];
+        if (a > b) std::swap(a, b);
+        t0 = std::max(t0, a - 1e-12);
+        t1 = std::min(t1, b + 1e-12);
+        if (t0 > t1) return false;
+      }
+      return true;
+    };
+    forEach(hits, [&](int f) {
+      if (hits(flo_[f], fhi_[f])) visit(f);
+    });
+  }
+
+ private:
+  template <class NodeTest, class Visit>
+  void forEach(NodeTest&& test, Visit&& visit) const {
+    if (nodes_.empty()) return;
+    std::array<int, 128> stack;
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& n = nodes_[stack[--top]];
+      if (!test(n.lo, n.hi)) continue;
+      if (n.left < 0) {
+        for (int i = n.first; i < n.first + n.count; ++i) visit(order_[i]);
+      } else {
+        stack[top++] = n.right;
+        stack[top++] = n.left;
+      }
+    }
+  }
+
+  int split(int first, int last, const std::vector<Vec>& centroid) {
+    const int id = static_cast<int>(nodes_.size());
+    nodes_.emplace_back();
+    Vec lo = Vec::Constant(kInf), hi = Vec::Constant(-kInf), clo = lo, chi = hi;
+    for (int i = first; i < last; ++i) {
+      lo = lo.cwiseMin(flo_[order_[i]]);
+      hi = hi.cwiseMax(fhi_[order_[i]]);
+      clo = clo.cwiseMin(centroid[order_[i]]);
+      chi = chi.cwiseMax(centroid[order_[i]]);
+    }
+    nodes_[id].lo = lo;
+    nodes_[id].hi = hi;
+    if (last - first <= 4) {
+      nodes_[id].first = first;
+      nodes_[id].count = last - first;
+      return id;
+    }
+    int axis = 0;
+    (chi - clo).maxCoeff(&axis);
+    const int mid = first + (last - first) / 2;
+    std::nth_element(order_.begin() + first, order_.begin() + mid, order_.begin() + last,
+                     [&](int a, int b) { return centroid[a][axis] < centroid[b][axis]; });
+    const int l = split(first, mid, centroid);
+    const int r = split(mid, last, centroid);
+    nodes_[id].left = l;
+    nodes_[id].right = r;
+    return id;
+  }
+
+  std::vector<Node> nodes_;
+  std::vector<int> order_;
+  std::vector<Vec> flo_, fhi_;
+};
+
+// 32 fixed ray directions, spread over the sphere (a spherical Fibonacci set rotated off the
+// coordinate axes and planes).
+const std::array<Vec, 32>& rayDirections() {
+  static const std::array<Vec, 32> dirs = [] {
+    std::array<Vec, 32> d;
+    const double golden = M_PI * (3.0 - std::sqrt(5.0));
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(0.4123, Vec(0.31, 0.77, 0.56).normalized()).toRotationMatrix();
+    for (int i = 0; i < 32; ++i) {
+      const double z = 1.0 - (2.0 * i + 1.0) / 32.0;
+      const double rho = std::sqrt(1.0 - z * z), phi = golden * i + 0.271;
+      d[static_cast<std::size_t>(i)] = R * Vec(rho * std::cos(phi), rho * std::sin(phi), z);
+    }
+    return d;
+  }();
+  return dirs;
+}
+
+}  // namespace
+
+struct SweptVolume::Impl {
+  struct SpanData {
+    SpanRoots roots;
+    double t0 = 0, t1 = 1;  // times reported for span time 0 and 1
+    Eigen::Matrix3d M;
+    Vec u;
+    double mu = 0;         // >= |M|_2
+    Affine3 Binv;          // inverse start pose
+    double binv_norm = 0;  // >= |L_B^-1|_2
+    double b_norm = 0;     // >= |L_B|_2
+    std::vector<Vec> W;    // body vertices posed by the start pose
+    std::vector<Vec> m;    // face planes m . z = h in the frame of the span start
+    std::vector<double> h;
+  };
+
+  struct Hit {
+    double tau = kInf;
+    int face = -1;
+  };
+
+  std::vector<Vec> P;                      // body vertices
+  std::vector<std::array<int, 3>> F;       // body faces
+  std::vector<SpanData> spans;
+  FaceTree tree;
+  Vec box_lo, box_hi;
+  double diag = 0;    // body bounding-box diagonal (body coordinates)
+  double delta = 0;   // δ, world units
+
+  Impl(const Body& body, const InsideOptions& o) : P(body.vertices()), F(body.faces()) {
+    if (o.tolerance) {
+      if (!std::isfinite(*o.tolerance) || !(*o.tolerance > 0))
+        throw Error(ErrorCode::InvalidArgument, "InsideOptions::tolerance must be finite and positive, got " +
+                                                    std::to_string(*o.tolerance) + "; leave it unset to use relative_tolerance");
+    } else if (!std::isfinite(o.relative_tolerance) || !(o.relative_tolerance > 0)) {
+      throw Error(ErrorCode::InvalidArgument, "InsideOptions::relative_tolerance must be finite and positive, got " +
+                                                  std::to_string(o.relative_tolerance) + " (the default is 1e-9)");
+    }
+    box_lo = body.box().lo;
+    box_hi = body.box().hi;
+    diag = body.box().diagonal();
+    delta = o.tolerance ? *o.tolerance : o.relative_tolerance * diag;
+    tree.build(P, F);
+  }
+
+  void addSpan(const Span3& span, double t0, double t1, const RootOptions& ro) {
+    SpanData sd{SpanRoots(span, ro), t0, t1, span.log().M, span.log().u, 0.0, span.start().inverse(), 0.0, 0.0, {}, {}, {}};
+    sd.mu = sd.roots.logNorm();
+    sd.binv_norm = spectralBound(sd.Binv.linear());
+    sd.b_norm = spectralBound(span.start().linear());
+    sd.W.resize(P.size());
+    for (std::size_t i = 0; i < P.size(); ++i) {
+      sd.W[i] = span.start().applyPoint(P[i]);
+      if (!sd.W[i].allFinite())
+        throw Error(ErrorCode::NonFinite, "SweptVolume: the body posed at the start of span " + std::to_string(spans.size()) +
+                                              " overflows (vertex " + std::to_string(i) + "); scale the scene down");
+    }
+    sd.m.resize(F.size());
+    sd.h.resize(F.size());
+    for (std::size_t f = 0; f < F.size(); ++f) {
+      const Vec& a = sd.W[F[f][0]];
+      sd.m[f] = (sd.W[F[f][1]] - a).cross(sd.W[F[f][2]] - a);
+      sd.h[f] = sd.m[f].dot(a);
+      if (!sd.m[f].allFinite() || !std::isfinite(sd.h[f]))
+        throw Error(ErrorCode::NonFinite, "SweptVolume: the plane of face " + std::to_string(f) + " at the start of span " +
+                                              std::to_string(spans.size()) + " overflows; scale the scene down");
+    }
+    spans.push_back(std::move(sd));
+  }
+
+  // --- static test at the start of the motion ------------------------------------------------
+
+  bool nearSurfaceAtStart(const Vec& x, const Vec& y) const {
+    const SpanData& sd = spans.front();
+    const double rho = delta * sd.binv_norm * (1 + 1e-9) + 64 * kUlp * (y.norm() + diag);
+    bool near = false;
+    tree.overlapping(y - Vec::Constant(rho), y + Vec::Constant(rho), [&](int f) {
+      if (!near && triangleDistance(x, sd.W[F[f][0]], sd.W[F[f][1]], sd.W[F[f][2]]) <= delta) near = true;
+    });
+    return near;
+  }
+
+  // Ray parity of the body point y (body coordinates), known to be farther than δ_b from the
+  // surface. Returns 1 inside, 0 outside, -1 when every direction was ambiguous.
+  int parity(const Vec& y, double delta_b) const {
+    const Vec centre = 0.5 * (box_lo + box_hi);
+    const double reach = 2 * ((y - centre).norm() + diag) + 1;
+    const double pad = 1e-9 * diag + 64 * kUlp * (y.norm() + reach);
+    for (const Vec& dir : rayDirections()) {
+      const Vec q = y + reach * dir;
+      const Vec dq = q - y;
+      const double dqn = dq.norm();
+      int crossings = 0;
+      bool ambiguous = false;
+      tree.alongSegment(y, q, pad, [&](int f) {
+        if (ambiguous) return;
+        const Vec& a = P[F[f][0]];
+        const Vec& b = P[F[f][1]];
+        const Vec& c = P[F[f][2]];
+        double by = 0, bq = 0, be = 0;
+        const int sy = orient(a, b, c, y, by), sq = orient(a, b, c, q, bq);
+        if (sq == 0) {
+          ambiguous = true;
+          return;
+        }
+        if (sy == 0) {
+          // y is within rounding of the triangle's plane; the segment meets the plane within
+          // 2 by / (|n| |cos|) of y, which is farther than δ_b from the triangle: no crossing
+          // when that radius is below δ_b / 2 (the segment is transversal enough).
+          const Vec n = (b - a).cross(c - a);
+          const double cosine = std::abs(n.dot(dq)) / (n.norm() * dqn);
+          if (2 * by <= 0.5 * delta_b * n.norm() * cosine) return;
+          ambiguous = true;
+          return;
+        }
+        if (sy == sq) return;
+        const int e0 = orient(y, q, a, b, be), e1 = orient(y, q, b, c, be), e2 = orient(y, q, c, a, be);
+        // Two certain signs that differ: the line passes outside the triangle.
+        if ((e0 != 0 && e1 != 0 && e0 != e1) || (e1 != 0 && e2 != 0 && e1 != e2) || (e0 != 0 && e2 != 0 && e0 != e2)) return;
+        if (e0 == 0 || e1 == 0 || e2 == 0) {
+          ambiguous = true;
+          return;
+        }
+        ++crossings;
+      });
+      if (!ambiguous) return crossings & 1;
+    }
+    return -1;
+  }
+
+  // Generalized winding number of the body surface about y (body coordinates): the sum of the
+  // signed solid angles of the faces (Van Oosterom and Strackee) over 4 pi.
+  double winding(const Vec& y) const {
+    double total = 0;
+    for (const auto& f : F) {
+      const Vec a = P[f[0]] - y, b = P[f[1]] - y, c = P[f[2]] - y;
+      const double la = a.norm(), lb = b.norm(), lc = c.norm();
+      const double num = a.dot(b.cross(c));
+      const double den = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
+      total += 2 * std::atan2(num, den);
+    }
+    return total / (4 * M_PI);
+  }
+
+  bool containsAtStart(const Vec& x) const {
+    const SpanData& sd = spans.front();
+    const Vec y = sd.Binv.applyPoint(x);
+    if (!y.allFinite()) throw Error(ErrorCode::NonFinite, "SweptVolume: the point in body coordinates overflows");
+    // Far outside the (δ-inflated) body box: outside.
+    const double rho = delta * sd.binv_norm * (1 + 1e-9) + 64 * kUlp * (y.norm() + diag);
+    if ((y.array() < box_lo.array() - rho).any() || (y.array() > box_hi.array() + rho).any()) return false;
+    if (nearSurfaceAtStart(x, y)) return true;
+    // Farther than δ (world) from the surface, so farther than δ / |L_B|_2 in body coordinates.
+    const int p = parity(y, delta / sd.b_norm);
+    if (p >= 0) return p == 1;
+    return std::abs(winding(y)) >= 0.5;
+  }
+
+  // --- crossings along a span ----------------------------------------------------------------
+
+  // World distance from x to face f posed at span time tau, and the largest speed of its corners.
+  double faceDistance(const SpanData& sd, int f, double tau, const Vec& x, double& speed) const {
+    const Affine3 A = sd.roots.span().power(tau);
+    const Vec a = A.applyPoint(sd.W[F[f][0]]), b = A.applyPoint(sd.W[F[f][1]]), c = A.applyPoint(sd.W[F[f][2]]);
+    speed = std::max({(sd.M * a + sd.u).norm(), (sd.M * b + sd.u).norm(), (sd.M * c + sd.u).norm()});
+    const double d = triangleDistance(x, a, b, c);
+    return std::isfinite(d) ? d : kInf;
+  }
+
+  // Records tau as a hit on face f when earlier than the current one.
+  static void record(Hit& hit, double tau, int f) {
+    if (tau < hit.tau) {
+      hit.tau = tau;
+      hit.face = f;
+    }
+  }
+
+  // Checks a root of face f's plane function (span times s = -tau), or, when the root is a
+  // wide band, the band's ends and the crossings of the planes through the face's edges.
+  // `edges` is false for the recursive calls on those planes (which check the same face).
+  void checkRoot(const SpanData& sd, int f, const ContactRoot& r, const Vec& x, Hit& hit, bool edges) const {
+    const double tlo = std::max(0.0, -r.hi), thi = std::min(1.0, -r.lo);
+    const double tt = std::min(thi, std::max(tlo, -r.t));
+    const double width = thi - tlo;
+    double speed = 0;
+    const double d = faceDistance(sd, f, tt, x, speed);
+    const double slack = width * std::exp(sd.mu * width) * speed * (1 + 1e-12);
+    if (slack <= delta) {
+      if (d <= delta + slack) record(hit, tt, f);
+      return;
+    }
+    // A wide bracket: the point slides in (or grazes) the plane over [tlo, thi].
+    double unused = 0;
+    for (const double tau : {tlo, tt, thi}) {
+      if (tau >= hit.tau) break;
+      if ((tau == tt ? d : faceDistance(sd, f, tau, x, unused)) <= delta) {
+        record(hit, tau, f);
+        break;
+      }
+    }
+    if (!edges || tlo >= hit.tau) return;
+    const Vec& n = sd.m[f];
+    for (int j = 0; j < 3; ++j) {
+      const Vec& p = sd.W[F[f][j]];
+      const Vec& q = sd.W[F[f][(j + 1) % 3]];
+      const Vec me = n.cross(q - p);
+      if (!(me.norm() > 0)) continue;
+      std::vector<ContactRoot> sub;
+      sd.roots.pointPlane(x, me, me.dot(p), -std::min(thi, hit.tau), -tlo, sub);
+      for (const ContactRoot& r2 : sub) checkRoot(sd, f, r2, x, hit, false);
+    }
+  }
+
+  // The earliest hit over span times [a, b], halving while the trajectory's ball meets many
+  // face boxes. Returns true when a hit was found (hits in [a, b] are earlier than in (b, 1]).
+  bool visit(const SpanData& sd, const Vec& x, double a, double b, Hit& hit, std::vector<int>& cand,
+             std::vector<ContactRoot>& roots) const {
+    const double c = 0.5 * (a + b), r = 0.5 * (b - a);
+    const Affine3 Pc = sd.roots.span().power(-c);
+    const Vec zc = Pc.applyPoint(x);
+    if (!zc.allFinite()) throw Error(ErrorCode::NonFinite, "SweptVolume: the point's trajectory overflows");
+    const double speed = (sd.M * zc + sd.u).norm();
+    const double round_z = 64 * kUlp * (zc.norm() + Pc.linear().norm() * x.norm() + Pc.translation().norm());
+    // Every face that can hit lies within e^mu (δ + η) <= 2 δ e^mu of z(tau) (frame of the span start).
+    const double R = speed * r * pathFactor(r * sd.mu) * (1 + 1e-12) + round_z + 2 * delta * std::exp(sd.mu) * (1 + 1e-9);
+    const Vec yc = sd.Binv.applyPoint(zc);
+    const double Ry = R * sd.binv_norm * (1 + 1e-12) + 64 * kUlp * (yc.norm() + diag);
+    cand.clear();
+    tree.overlapping(yc - Vec::Constant(Ry), yc + Vec::Constant(Ry), [&](int f) { cand.push_back(f); });
+    if (cand.empty()) return false;
+    if (cand.size() > 16 && r > 1.0 / 1024) {
+      if (visit(sd, x, a, c, hit, cand, roots)) return true;
+      return visit(sd, x, c, b, hit, cand, roots);
+    }
+    for (const int f : cand) {
+      roots.clear();
+      sd.roots.pointPlane(x, sd.m[f], sd.h[f], -std::min(b, hit.tau), -a, roots);
+      // Roots come in increasing s, i.e. decreasing tau: check the earliest times first.
+      for (auto it = roots.rbegin(); it != roots.rend(); ++it) {
+        if (-it->hi >= hit.tau) break;
+        checkRoot(sd, f, *it, x, hit, true);
+      }
+    }
+    return hit.face >= 0;
+  }
+
+  InsideResult query(const Vec& x) const {
+    if (!x.allFinite()) throw Error(ErrorCode::NonFinite, "SweptVolume: the query point has a NaN or infinite coordinate");
+    InsideResult res;
+    if (containsAtStart(x)) {
+      res.inside = true;
+      res.time = spans.front().t0;
+      res.span = 0;
+      res.face = -1;
+      return res;
+    }
+    std::vector<int> cand;
+    std::vector<ContactRoot> roots;
+    for (std::size_t i = 0; i < spans.size(); ++i) {
+      const SpanData& sd = spans[i];
+      Hit hit;
+      if (visit(sd, x, 0.0, 1.0, hit, cand, roots)) {
+        res.inside = true;
+        res.time = sd.t0 + hit.tau * (sd.t1 - sd.t0);
+        res.span = i;
+        res.face = hit.face;
+        return res;
+      }
+    }
+    return res;
+  }
+};
+
+SweptVolume::SweptVolume(const Body& body, const Motion3& motion, const InsideOptions& options)
+    : impl_(std::make_unique<Impl>(body, options)) {
+  impl_->spans.reserve(motion.spanCount());
+  for (std::size_t i = 0; i < motion.spanCount(); ++i)
+    impl_->addSpan(motion.span(i), motion.spanBegin(i), motion.spanEnd(i), options.roots);
+}
+
+SweptVolume::SweptVolume(const Body& body, const Span3& span, const InsideOptions& options)
+    : impl_(std::make_unique<Impl>(body, options)) {
+  impl_->addSpan(span, 0.0, 1.0, options.roots);
+}
+
+SweptVolume::~SweptVolume() = default;
+SweptVolume::SweptVolume(SweptVolume&&) noexcept = default;
+SweptVolume& SweptVolume::operator=(SweptVolume&&) noexcept = default;
+
+bool SweptVolume::contains(const Eigen::Vector3d& x) const { return impl_->query(x).inside; }
+
+InsideResult SweptVolume::query(const Eigen::Vector3d& x) const { return impl_->query(x); }
+
+bool SweptVolume::containsAtStart(const Eigen::Vector3d& x) const {
+  if (!x.allFinite()) throw Error(ErrorCode::NonFinite, "SweptVolume: the query point has a NaN or infinite coordinate");
+  return impl_->containsAtStart(x);
+}
+
+double SweptVolume::tolerance() const { return impl_->delta; }
+
+std::size_t SweptVolume::spanCount() const { return impl_->spans.size(); }
+
+bool sweptContains(const Body& body, const Motion3& motion, const Eigen::Vector3d& x, const InsideOptions& options) {
+  return SweptVolume(body, motion, options).contains(x);
+}
+
+bool sweptContains(const Body& body, const Span3& span, const Eigen::Vector3d& x, const InsideOptions& options) {
+  return SweptVolume(body, span, options).contains(x);
+}
+
+}  // namespace steady::sweep
