@@ -1,5 +1,5 @@
-// pow, sam, demo, motion sample, pattern and collide: read the arguments, call the library,
-// build the JSON answer.
+// pow, sam, demo, motion sample, pattern, collide and sweep: read the arguments, call the
+// library, build the JSON answer.
 
 #include "commands.hpp"
 
@@ -9,13 +9,22 @@
 #include <steady/core/motion.hpp>
 #include <steady/io/mesh.hpp>
 #include <steady/io/motion_file.hpp>
+#include <steady/sweep/envelope.hpp>
+#include <steady/sweep/repair.hpp>
 
 #include <Eigen/Dense>
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <chrono>
 #include <climits>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <iterator>
@@ -524,6 +533,375 @@ CollideOutput collideCommand(const CollideRequest& request) {
                num(found.front().t) + " to " + num(found.back().t) + between;
   }
   return {formatJson(out), summary};
+}
+
+// --- sweep -------------------------------------------------------------------------------------
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// Before any work: the directory of an output file exists and is writable, and the path is
+// not a directory, so that a long sweep does not end in a write error.
+void checkOutputPath(const std::string& path, const std::string& what) {
+  const fs::path target(path);
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  const std::string name = "cannot write " + what + " '" + path + "': ";
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec))
+    throw OutputError(name + "the directory '" + dir.string() + "' does not exist (nothing was computed or written)");
+  if (fs::is_directory(target, ec)) throw OutputError(name + "it is a directory (nothing was computed or written)");
+  if (::access(dir.c_str(), W_OK) != 0) {
+    const int err = errno;
+    throw OutputError(name + "the directory '" + dir.string() + "' is not writable: " + std::strerror(err) +
+                      " (nothing was computed or written)");
+  }
+}
+
+std::atomic<unsigned> pending_counter{0};
+
+// A text file written in full to a new temporary file next to `path` (flushed to disk) and
+// renamed to `path` by commit(); removed if it is never committed.
+class PendingFile {
+ public:
+  PendingFile(const std::string& path, const std::string& text, const std::string& what)
+      : path_(path), what_(what) {
+    const fs::path target(path);
+    const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+    int fd = -1;
+    for (int attempt = 0; fd < 0 && attempt < 100; ++attempt) {
+      temp_ = (dir / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
+                      std::to_string(pending_counter++)))
+                  .string();
+      fd = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+      if (fd < 0 && errno != EEXIST) fail(errno, "creating a file next to");
+    }
+    if (fd < 0) fail(EEXIST, "finding a free temporary name next to");
+    live_ = true;
+    std::size_t done = 0;
+    while (done < text.size()) {
+      const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) {
+        const int err = n < 0 ? errno : EIO;
+        ::close(fd);
+        fail(err, "writing");
+      }
+      done += static_cast<std::size_t>(n);
+    }
+    if (::fsync(fd) != 0 && errno != EINVAL && errno != EROFS) {
+      const int err = errno;
+      ::close(fd);
+      fail(err, "flushing");
+    }
+    if (::close(fd) != 0) fail(errno, "closing");
+  }
+  PendingFile(const PendingFile&) = delete;
+  PendingFile& operator=(const PendingFile&) = delete;
+  ~PendingFile() {
+    if (live_) ::unlink(temp_.c_str());
+  }
+  void commit() {
+    if (std::rename(temp_.c_str(), path_.c_str()) != 0) fail(errno, "renaming the finished file to");
+    live_ = false;
+  }
+
+ private:
+  [[noreturn]] void fail(int err, const std::string& doing) {
+    if (live_) ::unlink(temp_.c_str());
+    live_ = false;
+    throw OutputError("cannot write " + what_ + " '" + path_ + "': error while " + doing + " it: " +
+                      std::strerror(err) + " (nothing was written)");
+  }
+
+  std::string path_, what_, temp_;
+  bool live_ = false;
+};
+
+// A progress bar on standard error, drawn only when asked for (a terminal) and once the run
+// has taken a second; erased before the summary.
+class ProgressBar {
+ public:
+  ProgressBar(bool enabled, Clock::time_point start) : enabled_(enabled), start_(start) {}
+  ProgressBar(const ProgressBar&) = delete;
+  ProgressBar& operator=(const ProgressBar&) = delete;
+  ~ProgressBar() { clear(); }
+
+  void update(const steady::sweep::SweepProgress& p) {
+    if (!enabled_) return;
+    const double elapsed = secondsSince(start_);
+    if (elapsed < 1.0) return;
+    static const char* const stages[] = {"cycle", "intersect", "label", "output"};
+    int stage = 0;
+    for (int i = 0; i < 4; ++i)
+      if (std::strcmp(p.stage, stages[i]) == 0) stage = i;
+    const double f = std::clamp(p.fraction, 0.0, 1.0);
+    constexpr int kWidth = 24;
+    const int filled = static_cast<int>(std::lround(f * kWidth));
+    std::string bar(static_cast<std::size_t>(filled), '#');
+    bar.append(static_cast<std::size_t>(kWidth - filled), '.');
+    std::fprintf(stderr, "\rsteady sweep: stage %d/4 %-9s [%s] %3d%%  %.0f s ", stage + 1, p.stage, bar.c_str(),
+                 static_cast<int>(std::lround(100 * f)), elapsed);
+    std::fflush(stderr);
+    drawn_ = true;
+  }
+
+  void clear() {
+    if (!drawn_) return;
+    std::fputs("\r\033[K", stderr);
+    std::fflush(stderr);
+    drawn_ = false;
+  }
+
+ private:
+  bool enabled_;
+  Clock::time_point start_;
+  bool drawn_ = false;
+};
+
+std::string count(std::size_t n, const char* one, const char* many) {
+  return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
+Json repairJson(const steady::sweep::RepairReport& r) {
+  Json j = Json::object();
+  j["summary"] = steady::sweep::describe(r);
+  j["changed"] = r.changed();
+  j["vertices_in"] = r.vertices_in;
+  j["faces_in"] = r.faces_in;
+  j["vertices_out"] = r.vertices_out;
+  j["faces_out"] = r.faces_out;
+  j["duplicate_vertices_merged"] = r.duplicate_vertices_merged;
+  j["degenerate_faces_removed"] = r.degenerate_faces_removed;
+  j["duplicate_faces_removed"] = r.duplicate_faces_removed;
+  j["opposite_faces_removed"] = r.opposite_faces_removed;
+  j["isolated_vertices_removed"] = r.isolated_vertices_removed;
+  j["faces_flipped"] = r.faces_flipped;
+  j["vertices_duplicated"] = r.vertices_duplicated;
+  j["non_manifold_edges"] = r.non_manifold_edges;
+  j["non_manifold_vertices"] = r.non_manifold_vertices;
+  j["holes_filled"] = r.holes_filled;
+  j["hole_faces_added"] = r.hole_faces_added;
+  j["holes"] = r.holes;
+  j["boundary_edges"] = r.boundary_edges;
+  j["degenerate_faces"] = r.degenerate_faces;
+  j["components"] = r.components;
+  j["closed"] = r.closed;
+  j["oriented_outward"] = r.oriented_outward;
+  return j;
+}
+
+Json checkJson(const steady::sweep::MeshCheck& c, bool checked) {
+  Json j = Json::object();
+  j["closed"] = c.closed;
+  j["manifold"] = c.manifold;
+  j["oriented"] = c.oriented;
+  j["self_intersections"] = checked ? Json(c.self_intersections) : Json(nullptr);
+  j["degenerate_faces"] = c.degenerate_faces;
+  j["shells"] = c.shells;
+  j["volume"] = outputNumber(c.volume);
+  j["area"] = outputNumber(c.area);
+  return j;
+}
+
+std::string checkSummary(const steady::sweep::MeshCheck& c, bool checked) {
+  std::string s = std::string(c.closed ? "closed" : "OPEN") + ", " + (c.manifold ? "manifold" : "NOT MANIFOLD") + ", " +
+                  (c.oriented ? "oriented" : "NOT ORIENTED") + ", ";
+  if (c.degenerate_faces > 0) s += std::to_string(c.degenerate_faces) + " ZERO-AREA faces, ";
+  if (!checked) return s + "self-intersections not checked";
+  if (c.self_intersections == 0) return s + "no self-intersection";
+  return s + std::to_string(c.self_intersections) + " SELF-INTERSECTING face pairs";
+}
+
+}  // namespace
+
+SweepOutput sweepCommand(const SweepRequest& request) {
+  const Clock::time_point start = Clock::now();
+
+  // Arguments first, then the output paths: nothing is computed for a run that cannot finish.
+  double relative = 1e-3;
+  if (!trimmed(request.tolerance).empty()) {
+    relative = readNumber(request.tolerance, "--tolerance");
+    if (!(relative > 0 && relative < 1))
+      throw UsageError("usage", "--tolerance: " + trimmed(request.tolerance) +
+                                    " is not in (0, 1); it is relative to the body's bounding-box diagonal "
+                                    "(default 1e-3)");
+  }
+  steady::io::MeshFormat format{};
+  try {
+    format = steady::io::meshFormatOf(request.output);
+  } catch (const steady::Error& e) {
+    throw UsageError("usage", std::string("--output: ") + e.what());
+  }
+  if (request.binary && format != steady::io::MeshFormat::Ply && format != steady::io::MeshFormat::Stl)
+    throw UsageError("usage", "--binary: binary output is available for .ply and .stl only, not for '" +
+                                  request.output + "'");
+  const bool report_file = !request.report.empty() && request.report != "-";
+  if (report_file) {
+    std::error_code e1, e2;
+    const fs::path a = fs::weakly_canonical(request.report, e1), b = fs::weakly_canonical(request.output, e2);
+    if (request.report == request.output || (!e1 && !e2 && a == b))
+      throw UsageError("usage", "--report: '" + request.report + "' is also the --output mesh; give another file");
+  }
+  checkOutputPath(request.output, "the envelope");
+  if (report_file) checkOutputPath(request.report, "the report");
+
+  // Input: files (exit status 2), the body, then the math of the motion (3).
+  Clock::time_point t = Clock::now();
+  const LoadedMotion loaded = loadMotion(request.motion);
+  steady::io::TriangleMesh mesh = steady::io::readMesh(request.body);
+  const double read_time = secondsSince(t);
+  const std::size_t file_vertices = mesh.vertices.size(), file_faces = mesh.faces.size();
+
+  t = Clock::now();
+  std::optional<steady::sweep::RepairReport> repaired;
+  if (request.repair || request.fill_holes) {
+    steady::sweep::RepairOptions repair_options;
+    repair_options.fill_holes = request.fill_holes;
+    try {
+      repaired = steady::sweep::repairMesh(mesh.vertices, mesh.faces, repair_options);
+    } catch (const steady::Error& e) {
+      throw UsageError(steady::to_string(e.code()), request.body + ": " + e.what());
+    }
+  }
+  const double repair_time = secondsSince(t);
+
+  t = Clock::now();
+  std::optional<steady::sweep::Body> body;
+  try {
+    body.emplace(mesh.vertices, mesh.faces);
+  } catch (const steady::Error& e) {
+    std::string hint;
+    if (repaired) {
+      hint = " (after --repair: " + steady::sweep::describe(*repaired);
+      if (!repaired->closed && !request.fill_holes) hint += "; --fill-holes fills holes";
+      hint += ")";
+    } else if (e.code() != steady::ErrorCode::NonFinite) {
+      hint = " (--repair fixes what it safely can: duplicate vertices, faces with a repeated vertex, duplicate "
+             "faces, orientation; --fill-holes also fills holes)";
+    }
+    throw UsageError(steady::to_string(e.code()), request.body + ": " + e.what() + hint);
+  }
+  const double body_time = secondsSince(t);
+
+  t = Clock::now();
+  const steady::KeyframeMotion3 keys = buildMotion(loaded);
+  const steady::Motion3 motion = withContext("the motion of " + loaded.source + ": ", [&] {
+    return keys.toMotion(body->box(), loaded.file.approximation);
+  });
+  const double motion_time = secondsSince(t);
+
+  // The sweep.
+  steady::sweep::SweepOptions options;
+  options.relative_tolerance = relative;
+  options.check = request.check;
+  ProgressBar bar(request.progress, start);
+  options.progress = [&bar](const steady::sweep::SweepProgress& p) { bar.update(p); };
+  const steady::sweep::Envelope envelope =
+      withContext("the sweep: ", [&] { return steady::sweep::sweptEnvelope(*body, motion, options); });
+  bar.clear();
+
+  // The report (complete before anything is written; the time of the writing is not in it).
+  const double diagonal = body->box().diagonal();
+  Json report = Json::object();
+  report["volume"] = outputNumber(envelope.volume);
+  report["area"] = outputNumber(envelope.area);
+  report["vertices"] = envelope.vertices.size();
+  report["faces"] = envelope.triangles.size();
+  Json tolerance = Json::object();
+  tolerance["absolute"] = outputNumber(envelope.tolerance);
+  tolerance["relative"] = outputNumber(relative);
+  tolerance["body_diagonal"] = outputNumber(diagonal);
+  report["tolerance"] = std::move(tolerance);
+  report["spans"] = envelope.spans;
+  report["cycle_triangles"] = envelope.cycle_triangles;
+  report["intersecting_pairs"] = envelope.intersecting_pairs;
+  report["arrangement_triangles"] = envelope.arrangement_triangles;
+  report["patches"] = envelope.patches;
+  report["ray_retries"] = envelope.ray_retries;
+  report["thin_cavities_removed"] = envelope.thin_cavities_removed;
+  report["rounding_merged"] = envelope.rounding_merged;
+  report["pinched_vertices_split"] = envelope.pinched_vertices_split;
+  report["check"] = checkJson(envelope.check, request.check);
+  Json timings = Json::object();
+  timings["read"] = outputNumber(read_time);
+  timings["repair"] = outputNumber(repair_time);
+  timings["body"] = outputNumber(body_time);
+  timings["motion"] = outputNumber(motion_time);
+  timings["cycle"] = outputNumber(envelope.timings.cycle);
+  timings["intersect"] = outputNumber(envelope.timings.intersect);
+  timings["label"] = outputNumber(envelope.timings.label);
+  timings["output"] = outputNumber(envelope.timings.output);
+  timings["check"] = outputNumber(envelope.timings.check);
+  timings["sweep"] = outputNumber(envelope.timings.total);
+  const double total = secondsSince(start);
+  timings["total"] = outputNumber(total);
+  report["timings_s"] = std::move(timings);
+  Json body_json = Json::object();
+  body_json["file"] = request.body;
+  body_json["vertices"] = body->vertices().size();
+  body_json["faces"] = body->faces().size();
+  body_json["volume"] = outputNumber(body->signedVolume());
+  body_json["area"] = outputNumber(body->area());
+  body_json["diagonal"] = outputNumber(diagonal);
+  report["body"] = std::move(body_json);
+  report["repair"] = repaired ? repairJson(*repaired) : Json(nullptr);
+  Json motion_json = Json::object();
+  motion_json["source"] = loaded.source;
+  motion_json["interpolation"] = steady::to_string(keys.interpolation());
+  motion_json["t"] = Json::array({outputNumber(keys.beginTime()), outputNumber(keys.endTime())});
+  motion_json["spans"] = motion.spanCount();
+  motion_json["approximation_error"] = outputNumber(motion.approximationError());
+  report["motion"] = std::move(motion_json);
+  Json output_json = Json::object();
+  output_json["file"] = request.output;
+  output_json["binary"] = request.binary;
+  report["output"] = std::move(output_json);
+  const std::string report_text = formatJson(report);
+
+  // The files: the report waits next to its place until the envelope is written.
+  std::optional<PendingFile> pending;
+  if (report_file) pending.emplace(request.report, report_text, "the report");
+  steady::io::TriangleMesh out;
+  out.vertices = envelope.vertices;
+  out.faces = envelope.triangles;
+  steady::io::MeshWriteOptions write_options;
+  write_options.binary = request.binary;
+  try {
+    steady::io::writeMesh(request.output, out, write_options);
+  } catch (const steady::Error& e) {
+    if (e.code() == steady::ErrorCode::Io) throw OutputError(e.what());
+    throw;
+  }
+  if (pending) {
+    try {
+      pending->commit();
+    } catch (const OutputError&) {
+      ::unlink(request.output.c_str());  // all or nothing
+      throw;
+    }
+  }
+
+  SweepOutput result;
+  if (request.report == "-") result.json = report_text;
+  char seconds[32];
+  std::snprintf(seconds, sizeof seconds, "%.2f s", secondsSince(start));
+  result.summary =
+      "steady sweep: " + request.body + " (" + count(file_vertices, "vertex", "vertices") + ", " +
+      count(file_faces, "triangle", "triangles") +
+      (repaired ? "; repaired: " + steady::sweep::describe(*repaired) : std::string()) + ") along " +
+      loaded.source + " (" + steady::to_string(keys.interpolation()) + ", " +
+      count(motion.spanCount(), "span", "spans") + ", t " + num(keys.beginTime()) + " .. " + num(keys.endTime()) +
+      "): envelope of " + count(envelope.vertices.size(), "vertex", "vertices") + ", " +
+      count(envelope.triangles.size(), "triangle", "triangles") + ", volume " + num(envelope.volume) + ", area " +
+      num(envelope.area) + " (tolerance " + num(envelope.tolerance) + " = " + num(relative) +
+      " x body diagonal) written to " + request.output + (request.binary ? " (binary)" : "") + " in " + seconds +
+      "; check: " + checkSummary(envelope.check, request.check);
+  return result;
 }
 
 }  // namespace steady_cli

@@ -76,4 +76,33 @@ struct CollideOutput {
 ///   no time), steady::Error for math errors of the motions.
 CollideOutput collideCommand(const CollideRequest& request);
 
+/// Arguments of `steady sweep`.
+struct SweepRequest {
+  std::string body;       ///< mesh file of the body (body coordinates)
+  std::string motion;     ///< its motion (a --motion argument: path, "-", "@path", inline JSON)
+  std::string output;     ///< the envelope's mesh file; the extension selects the format
+  std::string tolerance;  ///< --tolerance as typed: relative to the body's box diagonal; "" = 1e-3
+  std::string report;     ///< --report: a JSON file, "-" for standard output, "" for none
+  bool repair = false;      ///< repair the body first (steady::sweep::repairMesh)
+  bool fill_holes = false;  ///< ... and fill its holes (implies repair)
+  bool binary = false;      ///< binary output (.ply, .stl)
+  bool check = true;        ///< check the envelope for self-intersections (SweepOptions::check)
+  bool progress = false;    ///< draw a progress bar on standard error (when it is a terminal)
+};
+
+/// Output of `steady sweep`.
+struct SweepOutput {
+  std::string json;     ///< the report, for standard output when `report` is "-"; else empty
+  std::string summary;  ///< one line for people (no newline)
+};
+
+/// `steady sweep`: the envelope of the body swept along the motion (sweptEnvelope), written
+/// atomically to `output`, with the report written atomically to `report` (or returned for
+/// standard output). On any failure neither file is written. The output paths are checked
+/// before the sweep starts.
+/// @throws UsageError for bad arguments and for a body that is not a valid closed outward mesh
+///   (the tag is the error code of the body validation, e.g. "degenerate-input"); OutputError
+///   when a file cannot be written; steady::Error for unreadable files and math errors.
+SweepOutput sweepCommand(const SweepRequest& request);
+
 }  // namespace steady_cli

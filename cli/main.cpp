@@ -1,4 +1,5 @@
-// steady: the command-line tool. Real powers of affinities and steady affine morphs as JSON.
+// steady: the command-line tool. Real powers of affinities and steady affine morphs as JSON,
+// contacts, swept volumes.
 
 #include "affinity_io.hpp"
 #include "commands.hpp"
@@ -7,6 +8,8 @@
 #include <steady/core/error.hpp>
 
 #include <CLI/CLI.hpp>
+
+#include <unistd.h>
 
 #include <cstdio>
 #include <exception>
@@ -48,8 +51,9 @@ const char* const kOutputHelp =
     "OUTPUT: JSON on standard output; numbers in the shortest form that reads back to the same\n"
     "  double (at most 17 significant digits). Matrices are arrays of rows of [L | t].\n"
     "EXIT STATUS: 0 success; 2 usage error or unreadable argument (including a missing or malformed\n"
-    "  motion or mesh file, and for collide a mesh with a zero-area triangle or two motions that share\n"
-    "  no time); 3 math error (no real logarithm, reflection, singular pose, overflow);\n"
+    "  motion or mesh file, for collide a mesh with a zero-area triangle or two motions that share\n"
+    "  no time, and for sweep a body that is not a closed outward manifold mesh); 3 math error (no\n"
+    "  real logarithm, reflection, singular pose, overflow);\n"
     "  1 anything else (e.g. an output file that cannot be written). Errors are reported on standard\n"
     "  error as \"steady: error [<reason>]: <message>\" and nothing is printed on standard output.\n";
 
@@ -252,6 +256,67 @@ int main(int argc, char** argv) {
       "      --motion '{\"keyframes\": [{\"pose\": {\"translation\": [0, 0, 3]}}, {\"pose\": {\"translation\": [0, 0, -3]}}]}'\n\n") +
                   kMotionHelp + "\n" + kOutputHelp);
 
+  steady_cli::SweepRequest sweep_request;
+  CLI::App* sweep = app.add_subcommand(
+      "sweep", "The swept volume of a closed mesh moving along a motion: its boundary (the envelope) as a mesh file");
+  sweep->add_option("BODY", sweep_request.body,
+                    "The body: a closed, outward oriented triangle mesh file (.off, .ply, .obj, .stl), vertices in "
+                    "body coordinates")
+      ->type_name("FILE")
+      ->required();
+  sweep->add_option("-m,--motion", sweep_request.motion, "The motion of BODY (see MOTION)")
+      ->type_name("MOTION")
+      ->required();
+  sweep->add_option("-o,--output", sweep_request.output,
+                    "The envelope's mesh file; its extension (.off, .ply, .obj, .stl) selects the format")
+      ->type_name("FILE")
+      ->required();
+  sweep->add_option("--tolerance", sweep_request.tolerance,
+                    "Relative tolerance T in (0, 1), default 1e-3: the envelope is within T x the diagonal of "
+                    "BODY's bounding box (body coordinates) of the exact swept volume's boundary")
+      ->type_name("T");
+  sweep->add_option("--report", sweep_request.report,
+                    "Also write a JSON report (sizes, volume, area, tolerance, counts, check, timings) to FILE, "
+                    "atomically; '-' prints it on standard output")
+      ->type_name("FILE");
+  sweep->add_flag("--repair", sweep_request.repair,
+                  "Repair BODY first: merge duplicate vertices, remove faces with a repeated vertex, duplicate "
+                  "faces and unused vertices, orient the faces consistently and outward; holes are not filled");
+  sweep->add_flag("--fill-holes", sweep_request.fill_holes, "With --repair (implied): also fill the holes of an open BODY");
+  sweep->add_flag("--binary", sweep_request.binary, "Binary output (.ply, .stl)");
+  bool sweep_no_check = false;
+  sweep->add_flag("--no-check", sweep_no_check,
+                  "Skip the exact self-intersection check of the envelope (about a tenth of the time)");
+  sweep->footer(std::string(
+      "Computes the boundary of the volume swept by BODY along every span of its motion: the exact\n"
+      "trimming of the sweep cycle (caps and swept strips), one closed, outward, 2-manifold triangle mesh in\n"
+      "world coordinates (steady::sweep::sweptEnvelope; method in sweep/README.md).\n"
+      "Tolerance: the only approximation is the tessellation of the swept strips; every point of the true\n"
+      "strips is within epsilon = T x (BODY's bounding-box diagonal, body coordinates) of the output, by a\n"
+      "derived bound (not sampled). A motion that scales the body scales the world distances with it: T is\n"
+      "relative to the body as given. Smaller T means more triangles (quartering T about doubles them).\n"
+      "BODY must be a closed, consistently and outward oriented, 2-manifold mesh without zero-area faces;\n"
+      "several shells are allowed (an inward one is a cavity). A mesh that is not is rejected with the\n"
+      "first defect (exit status 2); --repair fixes what it safely can and says what it changed in the\n"
+      "summary (and the report); it never moves a vertex. Curved motions (bezier, biarc) are first\n"
+      "approximated by SAM spans within the motion file's tolerance (see MOTION).\n"
+      "Output: the envelope is written atomically (a temporary file in the same directory, then renamed),\n"
+      "and so is the report; the output directories are checked before the sweep starts, and on any\n"
+      "failure neither file is written. Nothing is printed on standard output (except the report with\n"
+      "--report -). A one-line summary goes to standard error: sizes, volume, area, tolerance and the\n"
+      "check of the output (closed, manifold, oriented, self-intersections); a progress bar is drawn there\n"
+      "when it is a terminal and the sweep takes more than a second.\n"
+      "Report: {\"volume\", \"area\", \"vertices\", \"faces\", \"tolerance\": {\"absolute\", \"relative\",\n"
+      "  \"body_diagonal\"}, \"spans\", \"cycle_triangles\", \"intersecting_pairs\", \"arrangement_triangles\",\n"
+      "  \"patches\", \"ray_retries\", \"thin_cavities_removed\", \"rounding_merged\", \"pinched_vertices_split\",\n"
+      "  \"check\": {\"closed\", \"manifold\", \"oriented\", \"self_intersections\" (null with --no-check),\n"
+      "  \"degenerate_faces\", \"shells\", \"volume\", \"area\"}, \"timings_s\": {\"read\", \"repair\", \"body\",\n"
+      "  \"motion\", \"cycle\", \"intersect\", \"label\", \"output\", \"check\", \"sweep\", \"total\"}, \"body\",\n"
+      "  \"repair\" (null without --repair), \"motion\", \"output\"}.\n"
+      "Example: steady sweep data/meshes/bracket.off --motion data/motions/screw_scale.json \\\n"
+      "           -o out/envelope.ply --report out/report.json\n\n") +
+                kMotionHelp + "\n" + kOutputHelp);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -260,7 +325,8 @@ int main(int argc, char** argv) {
     if (app.get_subcommands().empty() && dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr && !extra.empty() &&
         extra.front().rfind('-', 0) != 0)
       return report("usage", "unknown command '" + extra.front() +
-                                 "' (the commands are pow, sam, demo, motion, pattern and collide; run 'steady --help')", 2);
+                                 "' (the commands are pow, sam, demo, motion, pattern, collide and sweep; run 'steady --help')",
+                    2);
     return report("usage", std::string(e.what()) + " (run 'steady --help' or 'steady <command> --help')", 2);
   }
 
@@ -294,6 +360,14 @@ int main(int argc, char** argv) {
     if (collide->parsed()) {
       const steady_cli::CollideOutput out = steady_cli::collideCommand(collide_request);
       const int status = emit(out.json);
+      std::fprintf(stderr, "%s\n", out.summary.c_str());
+      return status;
+    }
+    if (sweep->parsed()) {
+      sweep_request.check = !sweep_no_check;
+      sweep_request.progress = ::isatty(STDERR_FILENO) == 1;
+      const steady_cli::SweepOutput out = steady_cli::sweepCommand(sweep_request);
+      const int status = out.json.empty() ? 0 : emit(out.json);
       std::fprintf(stderr, "%s\n", out.summary.c_str());
       return status;
     }

@@ -13,6 +13,7 @@ packages=(
   libembree-dev libtbb-dev  # collide/ (broad phase)
   libcgal-demo       # bench/: CGAL's sample meshes (data.tar.gz)
   libfcl-dev         # bench/: FCL 0.7, the contact peer
+  libopenvdb-dev libboost-iostreams-dev  # bench/: OpenVDB 10, the sweep peer (its FindOpenVDB needs Boost.Iostreams)
 )
 
 missing=()

@@ -8,7 +8,8 @@
 #   STDERR_REGEX  regular expression that standard error must match
 #   STDOUT_REGEX  regular expression that standard output must match
 #   CHECKER       the steady_cli_json_check binary; with JSON:
-#   JSON          '|'-separated expectations on standard output (see tests/json_check.cpp)
+#   JSON          '|'-separated expectations on standard output (see tests/json_check.cpp), or
+#   JSON_FILE     on this file instead, which the run writes (it is removed before the run)
 #   TOL           numeric tolerance for JSON (default 1e-12)
 #   SAME_AS       '|'-separated arguments of a second run whose standard output must be identical
 #   OUT           file that receives standard output (for the JSON check)
@@ -36,6 +37,9 @@ string(REPLACE "|" ";" args "${ARGS}")
 string(REPLACE "|" ";" absent "${ABSENT}")
 if(DEFINED FILE AND NOT FILE STREQUAL "")
   file(REMOVE "${FILE}")
+endif()
+if(DEFINED JSON_FILE AND NOT JSON_FILE STREQUAL "")
+  file(REMOVE "${JSON_FILE}")
 endif()
 foreach(pattern IN LISTS absent)
   file(GLOB stale "${pattern}")
@@ -78,9 +82,14 @@ if(DEFINED STDOUT_REGEX AND NOT STDOUT_REGEX STREQUAL "" AND NOT out MATCHES "${
 endif()
 
 if(DEFINED JSON AND NOT JSON STREQUAL "")
-  file(WRITE "${OUT}" "${out}")
+  if(DEFINED JSON_FILE AND NOT JSON_FILE STREQUAL "")
+    set(json_input "${JSON_FILE}")
+  else()
+    file(WRITE "${OUT}" "${out}")
+    set(json_input "${OUT}")
+  endif()
   string(REPLACE "|" ";" specs "${JSON}")
-  execute_process(COMMAND "${CHECKER}" "${OUT}" "${TOL}" ${specs}
+  execute_process(COMMAND "${CHECKER}" "${json_input}" "${TOL}" ${specs}
     RESULT_VARIABLE check_status
     ERROR_VARIABLE check_err)
   if(NOT check_status EQUAL 0)
