@@ -26,9 +26,11 @@
 #include <steady/core/error.hpp>
 
 #include <Eigen/Geometry>  // cross products
+#include <unsupported/Eigen/MatrixFunctions>  // exp of the cleaned log
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <string>
 
@@ -74,11 +76,43 @@ struct Corner {
   bool zero = false;
 };
 
+// The span's poses with its log cleaned of rounding noise: entries of M (and u) below 16 units
+// in the last place of |M|_F (of |u|) are indistinguishable from zero and are set to zero, so
+// that planes the motion keeps invariant (a rotation about a coordinate axis, a translation
+// along one) stay exactly invariant in floating point: otherwise a log such as
+// M_22 = -5.6e-17 for a turn about z lifts the strips off the grazing planes by an ulp, and
+// the exact trimming resolves (and rounding then tangles) sheets that should coincide.
+// pose(τ) = exp(τ [M u; 0 0]) B (Eigen's Padé exponential, accurate to a few ulps).
+class CleanPoses {
+ public:
+  explicit CleanPoses(const Span3& span) : start_(span.start()) {
+    const Eigen::Matrix3d& M = span.log().M;
+    const Vec& u = span.log().u;
+    const double tm = 16 * std::numeric_limits<double>::epsilon() * M.norm();
+    const double tu = 16 * std::numeric_limits<double>::epsilon() * u.norm();
+    X_.setZero();
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) X_(i, j) = std::abs(M(i, j)) <= tm ? 0.0 : M(i, j);
+      X_(i, 3) = std::abs(u[i]) <= tu ? 0.0 : u[i];
+    }
+  }
+  Affine3 operator()(double tau) const {
+    const Eigen::Matrix4d E = (tau * X_).exp();
+    return Affine3(E.topLeftCorner<3, 3>(), E.topRightCorner<3, 1>()) * start_;
+  }
+
+ private:
+  Affine3 start_;
+  Eigen::Matrix4d X_;
+};
+
 }  // namespace
 
-void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affine3& end_pose, double eps,
+void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affine3* end_given, double eps,
                      const GrazingOptions& grazing, int max_steps, int span_index) {
   const GrazingSet gs = grazingSet(body, span, grazing);
+  const CleanPoses clean(span);
+  const Affine3 end_pose = end_given ? *end_given : clean(1.0);
   if (!end_pose.isFinite())
     throw Error(ErrorCode::NonFinite, "sweptEnvelope: the end pose of span " + std::to_string(span_index) +
                                           " is not finite");
@@ -215,7 +249,7 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
       }
   }
   auto poseAt = [&](double tau, bool first, bool last) {
-    return first ? start : last ? end_pose : span.pose(tau);
+    return first ? start : last ? end_pose : clean(tau);
   };
   struct Grid {
     std::vector<double> tau;
@@ -351,13 +385,18 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
       out.cap_triangles += 2;
       return;
     }
-    // A fan around the centroid of the true corners (inside the convex polygon).
-    Vec centroid = Vec::Zero();
-    int count = 0;
+    // A fan around an interior point built from the true corners' posed positions by sums and
+    // halvings only, so that it lies exactly on any axis-aligned plane that holds the corners
+    // (an average of three would not): the midpoint of the diagonal 0-2 of a convex polygon
+    // with four or more true corners, else (A + (B + C) / 2) / 2, inside the triangle ABC.
+    std::vector<int> corners;
     for (const Corner& c : full)
-      if (c.true_corner) centroid += pt[c.point], ++count;
-    centroid /= count;
-    const int cv = vertex((at_end ? end_pose : start)(centroid));
+      if (c.true_corner) corners.push_back(id(c.point));
+    const Vec& A = out.vertices[corners[0]];
+    const Vec& C = out.vertices[corners[2]];
+    const Vec inner = corners.size() >= 4 ? Vec(0.5 * (A + C))
+                                          : Vec(0.5 * (A + 0.5 * (out.vertices[corners[1]] + C)));
+    const int cv = vertex(inner);
     for (std::size_t i = 0; i < m; ++i) {
       out.triangles.push_back({{cv, id(full[i].point), id(full[(i + 1) % m].point)}});
       ++out.cap_triangles;

@@ -23,12 +23,13 @@ struct Cycle {
 
 // Appends the cycle of `body` on `span` to `out`:
 //   Back (with the Grazing faces) at τ = 0, Front at τ = 1 (posed by `end_pose`, the span's
-//   end; a polySAM passes the next span's start so that joints coincide exactly), and the
+//   end; a polySAM passes the next span's start so that joints coincide exactly, else null), and the
 //   strips swept by the boundary curves of Front, oriented with Front on their left.
 // Caps are cut exactly along the grazing chords; every point where a strip meets a cap is a
 // vertex of both (no T-junction), so Q is closed as a chain: every directed edge is matched by
 // its reverse. eps is the tessellation tolerance (tessellation.hpp).
-void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affine3& end_pose, double eps,
+// `end_pose` may be null: then the span's own pose at τ = 1 (see cleanPose) is used.
+void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affine3* end_pose, double eps,
                      const GrazingOptions& grazing, int max_steps, int span_index);
 
 }  // namespace steady::sweep::detail

@@ -139,8 +139,52 @@ std::vector<std::pair<int, int>> boxPairs(const std::vector<IPoint>& P, const st
 struct Arrangement {
   std::vector<EPoint> points;
   std::vector<Tri> faces;
+  std::vector<int> weight;  // per face: how many coincident layers it stands for (>= 1)
   std::size_t crossing_pairs = 0;
+  std::size_t cancelled = 0;  // faces dropped because coincident layers cancelled
 };
+
+// Merges coincident faces (the same three points in either orientation: coplanar layers, which
+// the constrained Delaunay triangulations cut identically, since CGAL breaks cocircular ties by
+// symbolic perturbation) into one face whose weight is the net number of layers; faces whose
+// layers cancel are dropped, as they change no winding number.
+void mergeCoincident(Arrangement& A) {
+  struct Hash {
+    std::size_t operator()(const Tri& t) const {
+      return (static_cast<std::size_t>(t[0]) * 73856093u) ^ (static_cast<std::size_t>(t[1]) * 19349663u) ^
+             (static_cast<std::size_t>(t[2]) * 83492791u);
+    }
+  };
+  std::unordered_map<Tri, int, Hash> first;
+  first.reserve(A.faces.size());
+  std::vector<Tri> faces;
+  std::vector<int> weight;
+  for (const Tri& t : A.faces) {
+    Tri key = t;
+    std::sort(key.begin(), key.end());
+    auto [it, added] = first.emplace(key, static_cast<int>(faces.size()));
+    if (added) {
+      faces.push_back(t);
+      weight.push_back(1);
+      continue;
+    }
+    const Tri& u = faces[it->second];
+    const bool same = (t[0] == u[0] && t[1] == u[1]) || (t[0] == u[1] && t[1] == u[2]) || (t[0] == u[2] && t[1] == u[0]);
+    weight[it->second] += same ? 1 : -1;
+  }
+  A.faces.clear();
+  A.weight.clear();
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    if (weight[f] == 0) {
+      ++A.cancelled;
+      continue;
+    }
+    Tri t = faces[f];
+    if (weight[f] < 0) std::swap(t[1], t[2]);
+    A.faces.push_back(t);
+    A.weight.push_back(std::abs(weight[f]));
+  }
+}
 
 // A constraint inside one triangle: a segment (a != b) or a point (a == b).
 struct Constraint {
@@ -269,6 +313,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<Tri>& T0, const
       out.faces.push_back(r);
     }
   }
+  mergeCoincident(out);
   return out;
 }
 
@@ -404,7 +449,7 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
               return;
             }
             const EK::Vector_3 m = CGAL::cross_product(b - a, c - a);
-            r.jump += CGAL::is_positive(m * r.normal) ? 1 : -1;
+            r.jump += (CGAL::is_positive(m * r.normal) ? 1 : -1) * A.weight[fb.info()];
             r.group = std::min(r.group, L.patch[fb.info()]);
             return;
           }
@@ -422,7 +467,7 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
           }
           if (o1 != o2 || o2 != o3) return;  // misses the triangle
           // Leaving through the face along its normal counts +1 (the origin is behind it).
-          r.crossings += s_from == CGAL::NEGATIVE ? 1 : -1;
+          r.crossings += (s_from == CGAL::NEGATIVE ? 1 : -1) * A.weight[fb.info()];
         });
     std::vector<int> again;
     for (std::size_t r = 0; r < rays.size(); ++r) {
@@ -442,6 +487,65 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
 }
 
 // ---------------------------------------------------------------------------------------------
+
+// Vertices closer than this times the scene's box diagonal are merged after rounding (1e-13:
+// a thousand times the rounding of coordinates, far below any tessellation tolerance).
+constexpr double kSnap = 1e-13;
+
+// Merges vertices within kSnap of each other (L-infinity, transitively), drops collapsed
+// triangles and unused vertices. Returns the number of vertices merged away.
+std::size_t snapVertices(std::vector<Vec>& V, std::vector<Tri>& T) {
+  if (V.empty()) return 0;
+  Vec lo = V[0], hi = V[0];
+  for (const Vec& x : V) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+  const double delta = kSnap * std::max((hi - lo).norm(), 1e-300);
+  struct Hash {
+    std::size_t operator()(const std::array<long long, 3>& c) const {
+      return static_cast<std::size_t>(c[0] * 73856093LL ^ c[1] * 19349663LL ^ c[2] * 83492791LL);
+    }
+  };
+  auto cell = [&](const Vec& x) {
+    return std::array<long long, 3>{{static_cast<long long>(std::floor((x.x() - lo.x()) / delta)),
+                                      static_cast<long long>(std::floor((x.y() - lo.y()) / delta)),
+                                      static_cast<long long>(std::floor((x.z() - lo.z()) / delta))}};
+  };
+  std::unordered_map<std::array<long long, 3>, std::vector<int>, Hash> grid;
+  grid.reserve(V.size());
+  for (std::size_t v = 0; v < V.size(); ++v) grid[cell(V[v])].push_back(static_cast<int>(v));
+  std::vector<int> parent(V.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  for (std::size_t v = 0; v < V.size(); ++v) {
+    const auto c = cell(V[v]);
+    for (long long dx = -1; dx <= 1; ++dx)
+      for (long long dy = -1; dy <= 1; ++dy)
+        for (long long dz = -1; dz <= 1; ++dz) {
+          auto it = grid.find({{c[0] + dx, c[1] + dy, c[2] + dz}});
+          if (it == grid.end()) continue;
+          for (int w : it->second)
+            if (w > static_cast<int>(v) && (V[w] - V[v]).cwiseAbs().maxCoeff() <= delta)
+              parent[findRoot(parent, w)] = findRoot(parent, static_cast<int>(v));
+        }
+  }
+  std::size_t merged = 0;
+  for (std::size_t v = 0; v < V.size(); ++v) merged += findRoot(parent, static_cast<int>(v)) != static_cast<int>(v);
+  if (merged == 0) return 0;
+  std::vector<Tri> kept;
+  kept.reserve(T.size());
+  for (Tri t : T) {
+    for (int& v : t) v = findRoot(parent, v);
+    if (t[0] != t[1] && t[1] != t[2] && t[2] != t[0]) kept.push_back(t);
+  }
+  std::vector<int> to(V.size(), -1);
+  std::vector<Vec> used;
+  for (Tri& t : kept)
+    for (int& v : t) {
+      if (to[v] < 0) to[v] = static_cast<int>(used.size()), used.push_back(V[v]);
+      v = to[v];
+    }
+  V.swap(used);
+  T.swap(kept);
+  return merged;
+}
 
 // Removes the cavities (shells of negative volume) whose mean thickness 2|V|/A is at most eps:
 // pockets pinched between a cap and a strip that leaves it tangentially, artefacts of the
@@ -596,6 +700,16 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
   env.cycle_triangles = cycle.triangles.size();
   env.timings.cycle = t_cycle;
 
+  {  // Q must be closed as a chain: every directed edge matched by its reverse
+    std::unordered_map<std::uint64_t, int> net;
+    net.reserve(3 * cycle.triangles.size());
+    for (const Tri& t : cycle.triangles)
+      for (int k = 0; k < 3; ++k) {
+        const int a = t[k], b = t[(k + 1) % 3];
+        net[edgeKey(a, b)] += a < b ? 1 : -1;
+      }
+    for (const auto& [key, n] : net) env.cycle_open_edges += n != 0;
+  }
   auto t0 = std::chrono::steady_clock::now();
   const Arrangement A = arrange(cycle.vertices, cycle.triangles, options);
   env.intersecting_pairs = A.crossing_pairs;
@@ -633,32 +747,16 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
     }
     env.triangles.push_back(t);
   }
-  // Rounding can map distinct exact points to one double point: merge them, and drop the
-  // triangles that collapse (their two remaining edges cancel, so the surface stays closed).
-  {
-    std::map<std::array<double, 3>, int> at;
-    std::vector<int> to(env.vertices.size());
-    std::vector<Vec> merged;
-    for (std::size_t v = 0; v < env.vertices.size(); ++v) {
-      const Vec& x = env.vertices[v];
-      auto [it, added] = at.emplace(std::array<double, 3>{{x.x() + 0.0, x.y() + 0.0, x.z() + 0.0}},
-                                    static_cast<int>(merged.size()));
-      if (added) merged.push_back(x);
-      to[v] = it->second;
-    }
-    env.rounding_merged = env.vertices.size() - merged.size();
-    if (env.rounding_merged) {
-      std::vector<Tri> kept;
-      for (Tri t : env.triangles) {
-        for (int& v : t) v = to[v];
-        if (t[0] != t[1] && t[1] != t[2] && t[2] != t[0]) kept.push_back(t);
-      }
-      env.triangles.swap(kept);
-      env.vertices.swap(merged);
-    }
-  }
+  // Rounding: exact points that differ by a few units in the last place (e.g. input noise of
+  // 1e-17 carried through exact constructions) round to points that make slivers cross. Merge
+  // vertices within kSnap times the scene size (union of neighbours in a hash grid), and drop
+  // the triangles that collapse: their two other edges cancel, so the surface stays closed.
+  env.rounding_merged = snapVertices(env.vertices, env.triangles);
+  // Pinches first: a pocket that touches the outside at a single vertex becomes a closed
+  // cavity of its own, which the thin-cavity pass then removes with the others.
+  splitPinchedVertices(env.vertices, env.triangles);
   env.thin_cavities_removed = dropThinCavities(env.triangles, eps, env.vertices);
-  if (env.thin_cavities_removed) {  // keep only the vertices still in use
+  {  // keep only the vertices still in use; count the pinches that remain (shared positions)
     std::vector<int> keep(env.vertices.size(), -1);
     std::vector<Vec> kept;
     for (Tri& t : env.triangles)
@@ -667,8 +765,10 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
         v = keep[v];
       }
     env.vertices.swap(kept);
+    std::map<std::array<double, 3>, int> seen;
+    for (const Vec& x : env.vertices) ++seen[{{x.x(), x.y(), x.z()}}];
+    env.pinched_vertices_split = env.vertices.size() - seen.size();
   }
-  env.pinched_vertices_split = splitPinchedVertices(env.vertices, env.triangles);
   env.timings.output = seconds(t0);
 
   t0 = std::chrono::steady_clock::now();
@@ -707,8 +807,8 @@ Envelope sweptEnvelope(const Body& body, const Motion3& motion, const SweepOptio
   for (std::size_t i = 0; i < n; ++i) {
     if (options.progress) options.progress({"cycle", static_cast<double>(i) / static_cast<double>(n)});
     // Joints use the next span's start pose, so that consecutive caps coincide exactly.
-    const Affine3 end = i + 1 < n ? motion.span(i + 1).start() : motion.span(i).pose(1.0);
-    detail::appendSpanCycle(cycle, body, motion.span(i), end, eps, options.grazing, options.max_steps,
+    const Affine3 next = i + 1 < n ? motion.span(i + 1).start() : Affine3();
+    detail::appendSpanCycle(cycle, body, motion.span(i), i + 1 < n ? &next : nullptr, eps, options.grazing, options.max_steps,
                             static_cast<int>(i));
   }
   return envelopeOf(std::move(cycle), eps, n, options, t_start, seconds(t_start));
@@ -719,7 +819,7 @@ Envelope sweptEnvelope(const Body& body, const Span3& span, const SweepOptions& 
   const double eps = resolveTolerance(body, options);
   detail::Cycle cycle;
   if (options.progress) options.progress({"cycle", 0.0});
-  detail::appendSpanCycle(cycle, body, span, span.pose(1.0), eps, options.grazing, options.max_steps, 0);
+  detail::appendSpanCycle(cycle, body, span, nullptr, eps, options.grazing, options.max_steps, 0);
   return envelopeOf(std::move(cycle), eps, 1, options, t_start, seconds(t_start));
 }
 

@@ -101,6 +101,9 @@ struct Envelope {
   MeshCheck check;           ///< properties of the output (self_intersections -1 if not checked)
   std::size_t spans = 0;                 ///< spans of the motion
   std::size_t cycle_triangles = 0;       ///< triangles of the sweep cycle Q
+  /// Edges of Q not matched by a reverse edge (by vertex index). 0 by construction; anything
+  /// else means the winding numbers, hence the envelope, cannot be trusted.
+  std::size_t cycle_open_edges = 0;
   std::size_t intersecting_pairs = 0;    ///< pairs of cycle triangles that cross
   std::size_t arrangement_triangles = 0; ///< triangles after re-triangulation
   std::size_t patches = 0;               ///< patches labelled with a winding number
@@ -109,7 +112,9 @@ struct Envelope {
   /// removed: pockets pinched between a cap and a strip leaving it tangentially, artefacts of
   /// the tessellation within the tolerance.
   std::size_t thin_cavities_removed = 0;
-  /// Distinct exact vertices that rounded to the same double point and were merged.
+  /// Vertices merged after rounding because they lay within 1e-13 times the envelope's box
+  /// diagonal of another (distinct exact points a few ulps apart, whose rounded slivers would
+  /// cross); the triangles they collapse are dropped, which keeps the surface closed.
   std::size_t rounding_merged = 0;
   /// Vertices where the envelope touches itself (several fans of faces), given one copy per
   /// extra fan so that the mesh is a 2-manifold.
