@@ -547,10 +547,9 @@ std::size_t snapVertices(std::vector<Vec>& V, std::vector<Tri>& T) {
   return merged;
 }
 
-// Removes the cavities (shells of negative volume) whose mean thickness 2|V|/A is at most eps:
-// pockets pinched between a cap and a strip that leaves it tangentially, artefacts of the
-// tessellation (the true surfaces are within eps of each other there). Returns how many.
-std::size_t dropThinCavities(std::vector<Tri>& T, double eps, const std::vector<Vec>& V) {
+// Shells: the root (in the returned union-find forest) of each face, faces joined through
+// shared edges.
+std::vector<int> shellForest(const std::vector<Tri>& T) {
   std::vector<int> parent(T.size());
   std::iota(parent.begin(), parent.end(), 0);
   std::unordered_map<std::uint64_t, int> first;
@@ -560,6 +559,14 @@ std::size_t dropThinCavities(std::vector<Tri>& T, double eps, const std::vector<
       auto [it, added] = first.emplace(edgeKey(T[f][k], T[f][(k + 1) % 3]), static_cast<int>(f));
       if (!added) parent[findRoot(parent, it->second)] = findRoot(parent, static_cast<int>(f));
     }
+  return parent;
+}
+
+// Removes the cavities (shells of negative volume) whose mean thickness 2|V|/A is at most eps:
+// pockets pinched between a cap and a strip that leaves it tangentially, artefacts of the
+// tessellation (the true surfaces are within eps of each other there). Returns how many.
+std::size_t dropThinCavities(std::vector<Tri>& T, double eps, const std::vector<Vec>& V) {
+  std::vector<int> parent = shellForest(T);
   std::unordered_map<int, std::array<double, 2>> shell;  // root -> (volume, area)
   for (std::size_t f = 0; f < T.size(); ++f) {
     const Vec &a = V[T[f][0]], &b = V[T[f][1]], &c = V[T[f][2]];
@@ -630,17 +637,7 @@ void computeCheck(MeshCheck& c, const std::vector<Vec>& V, const std::vector<Tri
     if (n[0] != n[1]) c.oriented = false;
   }
   // Shells through shared edges; vertex fans for manifoldness.
-  std::vector<int> parent(T.size());
-  std::iota(parent.begin(), parent.end(), 0);
-  {
-    std::unordered_map<std::uint64_t, int> first;
-    first.reserve(3 * T.size());
-    for (std::size_t f = 0; f < T.size(); ++f)
-      for (int k = 0; k < 3; ++k) {
-        auto [it, added] = first.emplace(edgeKey(T[f][k], T[f][(k + 1) % 3]), static_cast<int>(f));
-        if (!added) parent[findRoot(parent, it->second)] = findRoot(parent, static_cast<int>(f));
-      }
-  }
+  std::vector<int> parent = shellForest(T);
   c.shells = 0;
   for (std::size_t f = 0; f < T.size(); ++f) c.shells += findRoot(parent, static_cast<int>(f)) == static_cast<int>(f);
   c.manifold = c.closed;
