@@ -166,8 +166,7 @@ TEST(Repair, DegenerateFaceIsRemoved) {
   expectBody(m, 1.0);
 }
 
-// Disabled: expects the original face order; repairMesh moves the kept copy (to reconcile before the repair step is called done).
-TEST(Repair, DISABLED_DuplicateFaceIsKeptOnce) {
+TEST(Repair, DuplicateFaceIsKeptOnce) {
   Mesh m = unitBox();
   m.f.insert(m.f.begin(), m.f[4]);                                  // the copy comes first
   m.f.push_back({m.f[8][1], m.f[8][2], m.f[8][0]});  // face 7, rotated
@@ -194,8 +193,7 @@ TEST(Repair, InternalWallIsRemoved) {
   expectBody(m, 2.0);
 }
 
-// Disabled: expects the original vertex order; repairMesh renumbers (to reconcile before the repair step is called done).
-TEST(Repair, DISABLED_IsolatedVerticesAreRemoved) {
+TEST(Repair, IsolatedVerticesAreRemoved) {
   Mesh m = unitBox();
   m.v.insert(m.v.begin(), V(5, 5, 5));  // vertex 0, used by no face
   for (auto& f : m.f)
@@ -266,8 +264,7 @@ TEST(Repair, HoleIsReportedAndNotFilledUnlessAsked) {
   }
 }
 
-// Disabled: expected report wording and manifold result disagree with repairMesh (to reconcile before the repair step is called done).
-TEST(Repair, DISABLED_NonManifoldVertexIsCut) {
+TEST(Repair, NonManifoldVertexIsCut) {
   // Two cubes touching at one corner, (1, 1, 1): after welding it is a non-manifold vertex.
   // The cut gives two closed cubes, each with its own copy of the corner.
   Mesh m = merged(unitBox(), box(V(1, 1, 1), V(2, 2, 2)));
@@ -287,8 +284,7 @@ TEST(Repair, DISABLED_NonManifoldVertexIsCut) {
   expectBody(m, 2.0);
 }
 
-// Disabled: expected manifold result disagrees with repairMesh (to reconcile before the repair step is called done).
-TEST(Repair, DISABLED_NonManifoldEdgeIsCut) {
+TEST(Repair, NonManifoldEdgeIsCut) {
   // Two cubes sharing only the edge x = y = 1 (diagonally): four faces on that edge. Cutting
   // both of its ends gives two closed cubes again.
   Mesh m = merged(unitBox(), box(V(1, 1, 0), V(2, 2, 1)));
