@@ -821,6 +821,9 @@ SweepOutput sweepCommand(const SweepRequest& request) {
   report["cycle_triangles"] = envelope.cycle_triangles;
   report["intersecting_pairs"] = envelope.intersecting_pairs;
   report["arrangement_triangles"] = envelope.arrangement_triangles;
+  report["cycle_open_edges"] = envelope.cycle_open_edges;
+  report["coincident_merged"] = envelope.coincident_merged;
+  report["coincident_cancelled"] = envelope.coincident_cancelled;
   report["patches"] = envelope.patches;
   report["ray_retries"] = envelope.ray_retries;
   report["thin_cavities_removed"] = envelope.thin_cavities_removed;

@@ -141,6 +141,7 @@ struct Arrangement {
   std::vector<Tri> faces;
   std::vector<int> weight;  // per face: how many coincident layers it stands for (>= 1)
   std::size_t crossing_pairs = 0;
+  std::size_t merged = 0;     // faces folded into a coincident face
   std::size_t cancelled = 0;  // faces dropped because coincident layers cancelled
 };
 
@@ -168,6 +169,7 @@ void mergeCoincident(Arrangement& A) {
       weight.push_back(1);
       continue;
     }
+    ++A.merged;
     const Tri& u = faces[it->second];
     const bool same = (t[0] == u[0] && t[1] == u[1]) || (t[0] == u[1] && t[1] == u[2]) || (t[0] == u[2] && t[1] == u[0]);
     weight[it->second] += same ? 1 : -1;
@@ -711,6 +713,8 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
   const Arrangement A = arrange(cycle.vertices, cycle.triangles, options);
   env.intersecting_pairs = A.crossing_pairs;
   env.arrangement_triangles = A.faces.size();
+  env.coincident_merged = A.merged;
+  env.coincident_cancelled = A.cancelled;
   env.timings.intersect = seconds(t0);
 
   t0 = std::chrono::steady_clock::now();

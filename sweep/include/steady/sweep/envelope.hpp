@@ -106,6 +106,10 @@ struct Envelope {
   std::size_t cycle_open_edges = 0;
   std::size_t intersecting_pairs = 0;    ///< pairs of cycle triangles that cross
   std::size_t arrangement_triangles = 0; ///< triangles after re-triangulation
+  /// Coincident faces of the arrangement merged into one weighted face (coplanar layers, e.g.
+  /// strips sliding in a grazing plane over its face), and those whose layers cancelled.
+  std::size_t coincident_merged = 0;
+  std::size_t coincident_cancelled = 0;
   std::size_t patches = 0;               ///< patches labelled with a winding number
   std::size_t ray_retries = 0;           ///< rays re-cast because they hit an edge or vertex
   /// Cavities (inner shells) thinner than ε on average (2 |volume| / area <= ε) that were
