@@ -10,7 +10,8 @@
 #                      -DCMAKE_BUILD_TYPE=Release -DSTEADY_BUILD_BENCH=ON
 #   CMAKE_ARGS         extra arguments for the cmake configure step
 #   BUILD_JOBS         parallel build jobs (default: nproc)
-#   BENCH_FILTER       regex of the benchmarks to run (default: 'BM_SteadySweep|BM_VdbSweep');
+#   BENCH_FILTER       extended regex (grep -E) selecting among the sweep benchmarks
+#                      (BM_SteadySweep/..., BM_VdbSweep/...); default: all of them.
 #                      e.g. 'elephant/screw' for one body and motion
 #   STEADY_REPS        repetitions of each steady run (default 3; the table shows the median)
 #   BENCH_TIMEOUT      seconds after which one run is stopped and reported as such (default 1800)
@@ -21,7 +22,7 @@ set -euo pipefail
 
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 BUILD_DIR=${BUILD_DIR:-$ROOT/build}
-FILTER=${BENCH_FILTER:-BM_SteadySweep|BM_VdbSweep}
+FILTER=${BENCH_FILTER:-.}
 REPS=${STEADY_REPS:-3}
 TIMEOUT=${BENCH_TIMEOUT:-1800}
 OUT_DIR=${OUT_DIR:-$BUILD_DIR/bench-sweep}
@@ -38,7 +39,8 @@ BIN="$BUILD_DIR/bench/steady_bench"
 
 mkdir -p "$OUT_DIR"
 rm -f "$OUT_DIR"/run-*.json "$OUT_DIR"/run-*.status
-mapfile -t names < <("$BIN" --benchmark_list_tests=true --benchmark_filter="$FILTER")
+mapfile -t names < <("$BIN" --benchmark_list_tests=true --benchmark_filter='^BM_(SteadySweep|VdbSweep)/' |
+                     grep -E -- "$FILTER" || true)
 [[ ${#names[@]} -gt 0 ]] || { echo "no benchmark matches '$FILTER'" >&2; exit 1; }
 
 i=0
@@ -83,6 +85,10 @@ def parse(name):
     return kind, mesh, motion, setting
 
 
+def is_sweep(name):
+    return re.fullmatch(r"BM_(SteadySweep|VdbSweep)/[^/]+/[^/]+/[^/]+", name) is not None
+
+
 
 runs, failed, ctx = {}, {}, {}
 for path in sorted(glob.glob(os.path.join(out_dir, "run-*.json"))):
@@ -94,6 +100,8 @@ for path in sorted(glob.glob(os.path.join(out_dir, "run-*.json"))):
     ctx = doc.get("context", ctx)
     for b in doc.get("benchmarks", []):
         name = base(b.get("run_name", b["name"]))
+        if not is_sweep(name):
+            continue
         if b.get("error_occurred"):
             failed[name] = b.get("error_message", "error")
             continue
@@ -106,7 +114,7 @@ for path in sorted(glob.glob(os.path.join(out_dir, "run-*.status"))):
     with open(path) as f:
         name, status = f.read().strip().split("\t")
         name = base(name)
-    if name not in runs and name not in failed:
+    if is_sweep(name) and name not in runs and name not in failed:
         failed[name] = f"stopped after {timeout:.0f} s" if status == "124" else f"exit status {status}"
 
 
@@ -206,8 +214,10 @@ for mesh, motion in cases:
             row.append("")
     else:
         # No OpenVDB run reached ε. Its cost there is bounded below by the slowest run (a finer
-        # voxel costs more; a stopped run counts with the time limit), and estimated by
-        # power-law fits of error and time against the voxel size over the N = auto runs.
+        # voxel costs more; a stopped run counts with the time limit), and estimated by the
+        # power laws of error and time against the voxel size through the two finest N = auto
+        # runs (the local slopes; the time's steepens towards h^-3 as the voxel shrinks, so the
+        # estimate errs low).
         best = min(vdb, key=lambda nr: nr[1].get("err_out", math.inf)) if vdb else None
         if best is not None:
             n, r = best
@@ -216,8 +226,8 @@ for mesh, motion in cases:
                     fint(r.get("peak_mb"))]
             slowest = max([r2["seconds"] for _, r2 in vdb] +
                           [timeout for n2 in vdb_failed if failed[n2].startswith("stopped")])
-            ladder = [(r2["voxel"], r2["err_out"], r2["seconds"]) for n2, r2 in vdb
-                      if n2.endswith("_Nauto") and r2.get("err_out", 0) > 0]
+            ladder = sorted((r2["voxel"], r2["err_out"], r2["seconds"]) for n2, r2 in vdb
+                            if n2.endswith("_Nauto") and r2.get("err_out", 0) > 0)[:2]
             est = ""
             if len(ladder) >= 2:
                 p_err = fit([(h, e) for h, e, _ in ladder])
