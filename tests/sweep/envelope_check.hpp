@@ -7,6 +7,7 @@
 #include "sweep/sweep_test.hpp"
 
 #include <steady/core/motion.hpp>
+#include <steady/sweep/body.hpp>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -25,6 +26,12 @@
 #include <vector>
 
 namespace steady_sweep_test {
+
+// A validated body from a test mesh, and the one-span motion from B to C.
+inline steady::sweep::Body makeBody(const Mesh& m) { return steady::sweep::Body(m.v, m.f); }
+inline steady::Motion3 single(const steady::Affine3& B, const steady::Affine3& C) {
+  return steady::Motion3::polySam(std::vector<steady::Affine3>{B, C});
+}
 
 // ---- meshes ------------------------------------------------------------------------------------
 

@@ -40,8 +40,6 @@ using steady::sweep::sweptEnvelope;
 using steady::sweep::SweptVolume;
 using namespace steady_sweep_test;
 
-Body makeBody(const Mesh& m) { return Body(m.v, m.f); }
-Motion3 single(const Affine3& B, const Affine3& C) { return Motion3::polySam(std::vector<Affine3>{B, C}); }
 
 // At most this many failure messages per check and case (the counts are always reported).
 constexpr int kMaxMessages = 5;

@@ -30,9 +30,7 @@ using steady::sweep::SweptVolume;
 using steady::sweep::sweptContains;
 using namespace steady_sweep_test;
 
-Body makeBody(const Mesh& m) { return Body(m.v, m.f); }
 
-Motion3 single(const Affine3& B, const Affine3& C) { return Motion3::polySam(std::vector<Affine3>{B, C}); }
 
 // Radius of the union of the squares [-a, a]^2 turned by every angle in [0, theta], in the
 // direction alpha (the union is star-shaped about the centre). The square's radial function
