@@ -94,6 +94,10 @@ struct SweepRequest {
 struct SweepOutput {
   std::string json;     ///< the report, for standard output when `report` is "-"; else empty
   std::string summary;  ///< one line for people (no newline)
+  /// The envelope failed its own check (open, not manifold or oriented, self-intersecting,
+  /// zero-area faces, or an open sweep cycle): the file is written for inspection, and the
+  /// command exits with status 4.
+  bool defective = false;
 };
 
 /// `steady sweep`: the envelope of the body swept along the motion (sweptEnvelope), written

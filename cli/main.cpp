@@ -54,6 +54,8 @@ const char* const kOutputHelp =
     "  motion or mesh file, for collide a mesh with a zero-area triangle or two motions that share\n"
     "  no time, and for sweep a body that is not a closed outward manifold mesh); 3 math error (no\n"
     "  real logarithm, reflection, singular pose, overflow);\n"
+    "  4 sweep only: the envelope was written but failed its own check (open, not manifold,\n"
+    "  self-intersecting): do not use it as a solid;\n"
     "  1 anything else (e.g. an output file that cannot be written). Errors are reported on standard\n"
     "  error as \"steady: error [<reason>]: <message>\" and nothing is printed on standard output.\n";
 
@@ -369,6 +371,11 @@ int main(int argc, char** argv) {
       const steady_cli::SweepOutput out = steady_cli::sweepCommand(sweep_request);
       const int status = out.json.empty() ? 0 : emit(out.json);
       std::fprintf(stderr, "%s\n", out.summary.c_str());
+      if (status == 0 && out.defective) {
+        std::fprintf(stderr, "steady sweep: the envelope failed its check (see above); it is written for "
+                             "inspection only (exit status 4)\n");
+        return 4;
+      }
       return status;
     }
     // A bare `steady`: list the commands.
