@@ -270,6 +270,18 @@ struct IntervalBoxes {
   }
 };
 
+// The span of A^-1, whose log must be exactly -[M | u] of the span's. The EAR log of A^-1 takes
+// the default half-turn convention, which at an exact half turn turns the same way as the span
+// itself (a mirrored trajectory); so build it under both conventions and keep the one whose
+// log is -M. Elsewhere both agree.
+Span3 inverseSpan(const Span3& sp) {
+  const Affine3 inv = sp.relative().inverse();
+  EarOptions cw;
+  cw.half_turn = HalfTurn::Clockwise;
+  Span3 a(inv), b(inv, cw);
+  return (a.log().M + sp.log().M).norm() <= (b.log().M + sp.log().M).norm() ? a : b;
+}
+
 struct Query {
   const SceneData& st;
   const std::vector<Vec>& V;
@@ -311,7 +323,7 @@ struct Query {
     for (std::size_t i = 0; i < motion.spanCount(); ++i) {
       const Span3& sp = motion.span(i);
       SpanData d{&sp, motion.spanBegin(i), motion.spanEnd(i), SpanRoots(sp, o.roots),
-                 SpanRoots(Span3(sp.relative().inverse()), o.roots), {}};
+                 SpanRoots(inverseSpan(sp), o.roots), {}};
       d.W0.resize(nv);
       for (std::size_t v = 0; v < nv; ++v) d.W0[v] = sp.start().applyPoint(V[v]);
       spans.push_back(std::move(d));

@@ -166,6 +166,30 @@ TEST(Collide, FaceVertexWhenAStaticTipMeetsAMovingFace) {
   EXPECT_NEAR(c->t, (3 - 0.1 - 1) / 4, 1e-12);
 }
 
+TEST(Collide, FaceVertexOnAnExactHalfTurn) {
+  // A plate (x in [-5, 5], y in [1, 3], z in [-0.1, 0.1]) turns an exact half turn about the
+  // x axis and sweeps its face over a tiny static octahedron (radius r, lowest vertex at distance
+  // 2 from the axis) on the side the span actually turns through. Only a static vertex against
+  // the moving face sees the contact. The first one is the octahedron vertex at (0, r, 2 + r) in
+  // the turning plane: (2 + r) cos(th) - r sin(th) = 0.1, th = acos(0.1 / R) - atan2(r, 2 + r).
+  // Regression: the static-vertex trajectories came from the EAR log of A^-1, which at an exact
+  // half turn turns the same way as the span (a mirrored path that never meets the tip).
+  const double r = 0.05;
+  const Mesh plate = box(V(-5, 1, -0.1), V(5, 3, 0.1));
+  const Motion3 turn = Motion3::polySam(std::vector<Affine3>{Affine3(), Affine3::rotation(V(1, 0, 0), M_PI)});
+  const double side = turn.span(0).pose(0.5).applyPoint(V(0, 1, 0)).z() > 0 ? 1.0 : -1.0;
+  Mesh tip = octahedron(V(0, 0, 2 + r), r);
+  for (V& p : tip.v) p.z() *= side;
+  if (side < 0)
+    for (auto& f : tip.f) std::swap(f[1], f[2]);
+  const StaticScene scene(tip.v, tip.f);
+  const auto c = scene.firstContact(plate.v, plate.f, turn);
+  ASSERT_TRUE(c.has_value());
+  EXPECT_EQ(c->type, ContactType::FaceVertex);
+  const double R = std::hypot(2 + r, r);
+  EXPECT_NEAR(c->t, (std::acos(0.1 / R) - std::atan2(r, 2 + r)) / M_PI, 1e-9);
+}
+
 TEST(Collide, AllContactsAreOrderedAndMerged) {
   const Mesh slab = box(V(-10, -10, -11), V(10, 10, -1.2));
   const StaticScene scene(slab.v, slab.f);
