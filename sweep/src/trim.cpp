@@ -564,7 +564,7 @@ std::vector<int> shellForest(const std::vector<Tri>& T) {
   return parent;
 }
 
-// Removes the cavities (shells of negative volume) whose mean thickness 2|V|/A is at most eps:
+// Removes the cavities (closed shells of negative volume) whose mean thickness 2|V|/A is at most eps:
 // pockets pinched between a cap and a strip that leaves it tangentially, artefacts of the
 // tessellation (the true surfaces are within eps of each other there). Returns how many.
 std::size_t dropThinCavities(std::vector<Tri>& T, double eps, const std::vector<Vec>& V) {
@@ -576,14 +576,31 @@ std::size_t dropThinCavities(std::vector<Tri>& T, double eps, const std::vector<
     x[0] += a.dot(b.cross(c)) / 6.0;
     x[1] += 0.5 * (b - a).cross(c - a).norm();
   }
+  // Only a closed, consistently oriented shell has a meaningful volume sign: every edge of it
+  // used by exactly two of its faces, once in each direction.
+  std::unordered_map<std::uint64_t, std::array<int, 2>> edge_use;  // [faces, net direction]
+  edge_use.reserve(3 * T.size());
+  for (const Tri& t : T)
+    for (int k = 0; k < 3; ++k) {
+      auto& e = edge_use[edgeKey(t[k], t[(k + 1) % 3])];
+      ++e[0];
+      e[1] += t[k] < t[(k + 1) % 3] ? 1 : -1;
+    }
+  std::unordered_map<int, char> open;
+  for (std::size_t f = 0; f < T.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const auto& e = edge_use[edgeKey(T[f][k], T[f][(k + 1) % 3])];
+      if (e[0] != 2 || e[1] != 0) open[findRoot(parent, static_cast<int>(f))] = 1;
+    }
+  auto thin = [&](int root) {
+    const auto& x = shell[root];
+    return !open.count(root) && x[0] < 0 && 2 * -x[0] <= eps * x[1];
+  };
   std::size_t dropped = 0;
-  for (const auto& [root, x] : shell) dropped += x[0] < 0 && 2 * -x[0] <= eps * x[1];
+  for (const auto& [root, x] : shell) dropped += thin(root);
   if (dropped)
     T.erase(std::remove_if(T.begin(), T.end(),
-                           [&](const Tri& t) {
-                             const auto& x = shell[findRoot(parent, static_cast<int>(&t - T.data()))];
-                             return x[0] < 0 && 2 * -x[0] <= eps * x[1];
-                           }),
+                           [&](const Tri& t) { return thin(findRoot(parent, static_cast<int>(&t - T.data()))); }),
             T.end());
   return dropped;
 }
@@ -753,10 +770,10 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
   // vertices within kSnap times the scene size (union of neighbours in a hash grid), and drop
   // the triangles that collapse: their two other edges cancel, so the surface stays closed.
   env.rounding_merged = snapVertices(env.vertices, env.triangles);
-  // Pinches first: a pocket that touches the outside at a single vertex becomes a closed
-  // cavity of its own, which the thin-cavity pass then removes with the others.
-  splitPinchedVertices(env.vertices, env.triangles);
+  // Cavities before pinches: splitting an envelope that is not closed can cut open pieces of
+  // its outer surface loose, whose volume sign means nothing.
   env.thin_cavities_removed = dropThinCavities(env.triangles, eps, env.vertices);
+  splitPinchedVertices(env.vertices, env.triangles);
   {  // keep only the vertices still in use; count the pinches that remain (shared positions)
     std::vector<int> keep(env.vertices.size(), -1);
     std::vector<Vec> kept;
