@@ -22,6 +22,7 @@
 // read-write form for a double under GCC (the value comes back as garbage).
 // Meshes come from Debian's libcgal-demo (/usr/share/doc/libcgal-dev/data.tar.gz), extracted at
 // configure time into STEADY_CGAL_MESHES; without them these benchmarks are not registered.
+#include "sample_meshes.hpp"
 #include <steady/collide/collide.hpp>
 #include <steady/io/mesh.hpp>
 
@@ -70,7 +71,7 @@ std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> fclModel(const steady::io::Triangle
 }
 #endif
 
-std::string meshPath(const std::string& name) { return std::string(STEADY_CGAL_MESHES) + "/" + name + ".off"; }
+using steady_bench::meshPath;
 
 Scene& scene() {
   static Scene s = [] {
@@ -115,15 +116,10 @@ const Body& body(const std::string& name) {
   if (it != cache.end()) return it->second;
   Body b;
   b.mesh = steady::io::readMesh(meshPath(name));
-  V lo = b.mesh.vertices.front(), hi = lo;
-  for (const V& p : b.mesh.vertices) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  const double s = 1.0 / (hi - lo).norm();
-  const V c = 0.5 * (lo + hi);
-  for (V& p : b.mesh.vertices) p = s * (p - c);
-  b.half_height = 0.5 * s * (hi - lo).z();
+  steady_bench::toUnitDiagonal(b.mesh);
+  double zlo = b.mesh.vertices.front().z(), zhi = zlo;
+  for (const V& p : b.mesh.vertices) zlo = std::min(zlo, p.z()), zhi = std::max(zhi, p.z());
+  b.half_height = 0.5 * (zhi - zlo);
 #ifdef STEADY_BENCH_FCL
   b.fcl = fclModel(b.mesh);
 #endif

@@ -42,6 +42,7 @@
 //   steady only: closed, manifold, self_x (self-intersecting pairs, -1 unchecked), shells,
 //                cycle_tris, pairs (crossing cycle triangle pairs), s_body (body validation)
 //   OpenVDB only: voxel, samples, voxels (active voxels of the union), grid_mb
+#include "sample_meshes.hpp"
 #include "sweep_error.hpp"
 
 #include <steady/core/ear.hpp>
@@ -81,7 +82,7 @@ constexpr int kErrorTimes = 64;
 constexpr std::size_t kErrorVertices = 2048;
 constexpr std::uint64_t kErrorSeed = 0x5eed5eedULL;
 
-std::string meshPath(const std::string& name) { return std::string(STEADY_CGAL_MESHES) + "/" + name + ".off"; }
+using steady_bench::meshPath;
 
 // k rounds of midpoint subdivision of a mesh whose vertices lie on a sphere, every vertex
 // projected onto that sphere (centre: the vertex mean; radius: the mean distance to it).
@@ -138,14 +139,7 @@ const SweepBody& sweepBody(const std::string& name) {
   } else {
     b.mesh = steady::io::readMesh(meshPath(name));
   }
-  V lo = b.mesh.vertices.front(), hi = lo;
-  for (const V& p : b.mesh.vertices) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  const double s = 1.0 / (hi - lo).norm();
-  const V c = 0.5 * (lo + hi);
-  for (V& p : b.mesh.vertices) p = s * (p - c);
+  steady_bench::toUnitDiagonal(b.mesh);
   const auto t0 = std::chrono::steady_clock::now();
   try {
     b.body = std::make_unique<steady::sweep::Body>(b.mesh.vertices, b.mesh.faces);
