@@ -829,6 +829,7 @@ SweepOutput sweepCommand(const SweepRequest& request) {
   report["thin_cavities_removed"] = envelope.thin_cavities_removed;
   report["rounding_merged"] = envelope.rounding_merged;
   report["pinched_vertices_split"] = envelope.pinched_vertices_split;
+  report["pinches_touching"] = envelope.pinches_touching;
   report["check"] = checkJson(envelope.check, request.check);
   Json timings = Json::object();
   timings["read"] = outputNumber(read_time);

@@ -310,7 +310,7 @@ int main(int argc, char** argv) {
       "when it is a terminal and the sweep takes more than a second.\n"
       "Report: {\"volume\", \"area\", \"vertices\", \"faces\", \"tolerance\": {\"absolute\", \"relative\",\n"
       "  \"body_diagonal\"}, \"spans\", \"cycle_triangles\", \"intersecting_pairs\", \"arrangement_triangles\",\n"
-      "  \"patches\", \"ray_retries\", \"thin_cavities_removed\", \"rounding_merged\", \"pinched_vertices_split\",\n"
+      "  \"patches\", \"ray_retries\", \"thin_cavities_removed\", \"rounding_merged\", \"pinched_vertices_split\", \"pinches_touching\",\n"
       "  \"check\": {\"closed\", \"manifold\", \"oriented\", \"self_intersections\" (null with --no-check),\n"
       "  \"degenerate_faces\", \"shells\", \"volume\", \"area\"}, \"timings_s\": {\"read\", \"repair\", \"body\",\n"
       "  \"motion\", \"cycle\", \"intersect\", \"label\", \"output\", \"check\", \"sweep\", \"total\"}, \"body\",\n"

@@ -30,6 +30,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <numeric>
 #include <string>
@@ -53,6 +54,14 @@ int findRoot(std::vector<int>& parent, int x) {
   while (parent[x] != x) x = parent[x] = parent[parent[x]];
   return x;
 }
+
+// Where a body-coordinate point lies on the body: P[a] + s (P[b] - P[a]) + t (P[c] - P[a]) with
+// body vertices a, b, c (c < 0: on the edge ab); a < 0 for the body's own vertices. Posed, the
+// same combination of the posed vertices is the point's exact position (ExactPosition).
+struct Where {
+  int a = -1, b = -1, c = -1;
+  double s = 0, t = 0;
+};
 
 // A point on an edge at parameter r, `(1 - r) p[v0] + r p[v1]`.
 struct EdgePoint {
@@ -128,9 +137,29 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
 
   // Body-coordinate points: the body's vertices, then points on edges and chords.
   std::vector<Vec> pt(P.begin(), P.end());
-  auto addPoint = [&](const Vec& x) {
+  std::vector<Where> on_body(P.size());
+  auto addPoint = [&](const Vec& x, const Where& w) {
     pt.push_back(x);
+    on_body.push_back(w);
     return static_cast<int>(pt.size()) - 1;
+  };
+  // Barycentric coordinates of point q (a vertex of face f, or a point on its edges or chord)
+  // with respect to the corners of face f.
+  auto barycentric = [&](int q, int f) {
+    std::array<double, 3> l{{0, 0, 0}};
+    auto add = [&](int v, double w) {
+      for (int k = 0; k < 3; ++k)
+        if (F[f][k] == v) l[k] += w;
+    };
+    const Where& w = on_body[q];
+    if (w.a < 0) {
+      add(q, 1.0);
+    } else {
+      add(w.a, 1.0 - w.s - w.t);
+      add(w.b, w.s);
+      if (w.c >= 0) add(w.c, w.t);
+    }
+    return l;
   };
 
   // What of each face is front: all, nothing (Back and Grazing faces), or a part (Split).
@@ -169,7 +198,7 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
         zero[e][1] = zero[e][0];
         continue;
       }
-      const int id = addPoint((1 - root[i]) * P[a] + root[i] * P[b]);
+      const int id = addPoint((1 - root[i]) * P[a] + root[i] * P[b], Where{a, b, -1, root[i], 0.0});
       zero[e][i] = id;
       on_edge[e].push_back({root[i], id});
     }
@@ -296,9 +325,17 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
     for (int i = 1; i < m; ++i) {
       const double t = static_cast<double>(i) / m;
       const Vec x = (1 - t) * pt[s.p] + t * pt[s.q];
-      const int id = addPoint(x);
+      Where w;
+      const double r = s.rp + t * (s.rq - s.rp);
+      if (s.edge >= 0) {
+        w = Where{E[s.edge].vertices[0], E[s.edge].vertices[1], -1, r, 0.0};
+      } else {  // on the chord of face s.face
+        const auto lp = barycentric(s.p, s.face), lq = barycentric(s.q, s.face);
+        w = Where{F[s.face][0], F[s.face][1], F[s.face][2], (1 - t) * lp[1] + t * lq[1], (1 - t) * lp[2] + t * lq[2]};
+      }
+      const int id = addPoint(x, w);
       sub[j].push_back(id);
-      if (s.edge >= 0) on_edge[s.edge].push_back({s.rp + t * (s.rq - s.rp), id});
+      if (s.edge >= 0) on_edge[s.edge].push_back({r, id});
     }
   }
   for (auto& list : on_edge)
@@ -312,15 +349,32 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
     fixed[q] = !gs.stationary && (M * start(pt[q]) + u).norm() <= kFixedSpeed * gs.speed;
   auto vertex = [&](const Vec& x) {
     out.vertices.push_back(x);
+    out.exact.emplace_back();
     return static_cast<int>(out.vertices.size()) - 1;
   };
-  auto at0 = [&](int q) {
-    if (id0[q] < 0) id0[q] = vertex(start(pt[q]));
+  // A vertex at A + s (B - A) + t (C - A) of posed body vertices (ids of `out`, c < 0 for none).
+  auto combination = [&](int a, int b, int c, double s, double t) {
+    const Vec& A = out.vertices[a];
+    Vec x = A + s * (out.vertices[b] - A);
+    if (c >= 0) x += t * (out.vertices[c] - A);
+    out.vertices.push_back(x);
+    out.exact.push_back(ExactPosition{a, b, c, s, c >= 0 ? t : 0.0});
+    return static_cast<int>(out.vertices.size()) - 1;
+  };
+  std::function<int(int)> at0, at1;
+  at0 = [&](int q) {
+    if (id0[q] < 0) {
+      const Where& w = on_body[q];
+      id0[q] = w.a < 0 ? vertex(start(pt[q])) : combination(at0(w.a), at0(w.b), w.c < 0 ? -1 : at0(w.c), w.s, w.t);
+    }
     return id0[q];
   };
-  auto at1 = [&](int q) {
+  at1 = [&](int q) {
     if (fixed[q]) return at0(q);
-    if (id1[q] < 0) id1[q] = vertex(end_pose(pt[q]));
+    if (id1[q] < 0) {
+      const Where& w = on_body[q];
+      id1[q] = w.a < 0 ? vertex(end_pose(pt[q])) : combination(at1(w.a), at1(w.b), w.c < 0 ? -1 : at1(w.c), w.s, w.t);
+    }
     return id1[q];
   };
 
@@ -385,18 +439,21 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
       out.cap_triangles += 2;
       return;
     }
-    // A fan around an interior point built from the true corners' posed positions by sums and
-    // halvings only, so that it lies exactly on any axis-aligned plane that holds the corners
-    // (an average of three would not): the midpoint of the diagonal 0-2 of a convex polygon
-    // with four or more true corners, else (A + (B + C) / 2) / 2, inside the triangle ABC.
+    // A fan around an interior point of the (convex) polygon: the midpoint of the diagonal 0-2
+    // when it has four or more true corners, else (A + (B + C) / 2) / 2, inside the triangle
+    // ABC; placed exactly in the posed face's plane by its barycentric coordinates.
     std::vector<int> corners;
     for (const Corner& c : full)
-      if (c.true_corner) corners.push_back(id(c.point));
-    const Vec& A = out.vertices[corners[0]];
-    const Vec& C = out.vertices[corners[2]];
-    const Vec inner = corners.size() >= 4 ? Vec(0.5 * (A + C))
-                                          : Vec(0.5 * (A + 0.5 * (out.vertices[corners[1]] + C)));
-    const int cv = vertex(inner);
+      if (c.true_corner) corners.push_back(c.point);
+    const auto lA = barycentric(corners[0], f), lC = barycentric(corners[2], f);
+    std::array<double, 3> l{};
+    if (corners.size() >= 4) {
+      for (int k = 0; k < 3; ++k) l[k] = 0.5 * (lA[k] + lC[k]);
+    } else {
+      const auto lB = barycentric(corners[1], f);
+      for (int k = 0; k < 3; ++k) l[k] = 0.5 * (lA[k] + 0.5 * (lB[k] + lC[k]));
+    }
+    const int cv = combination(id(F[f][0]), id(F[f][1]), id(F[f][2]), l[1], l[2]);
     for (std::size_t i = 0; i < m; ++i) {
       out.triangles.push_back({{cv, id(full[i].point), id(full[(i + 1) % m].point)}});
       ++out.cap_triangles;

@@ -14,8 +14,20 @@
 
 namespace steady::sweep::detail {
 
+// Where a cap vertex lies exactly: X = A + s (B - A) + t (C - A), with A, B, C vertices of the
+// cycle that are posed body vertices (c < 0 when t = 0: a point on the segment AB) and s, t read
+// as exact numbers. Its double coordinates round this point. Caps built this way lie exactly in
+// the posed faces' planes, so the caps that two spans of a polySAM leave on the same posed body
+// are exactly coplanar and the trimming resolves their overlap exactly instead of finding
+// near-coplanar sheets that cross. a < 0: the vertex is exactly its double coordinates.
+struct ExactPosition {
+  int a = -1, b = -1, c = -1;
+  double s = 0, t = 0;
+};
+
 struct Cycle {
-  std::vector<Eigen::Vector3d> vertices;      // world coordinates
+  std::vector<Eigen::Vector3d> vertices;      // world coordinates (rounded, see `exact`)
+  std::vector<ExactPosition> exact;           // per vertex
   std::vector<std::array<int, 3>> triangles;  // oriented: Q's winding number is >= 0
   std::size_t cap_triangles = 0;
   std::size_t strip_triangles = 0;

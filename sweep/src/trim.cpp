@@ -18,7 +18,11 @@
 //    through an edge or a vertex of some face is re-cast from another point and direction.
 // 3. Selection. The envelope is the set of faces with w = 0 on one side and w >= 1 on the other,
 //    oriented towards w = 0; of overlapping copies one is kept. Coordinates are rounded to
-//    double at the very end.
+//    double at the very end; then nearly equal vertices are merged, thin cavities removed, and
+//    the vertices where the surface touches itself are split and moved apart by far less than
+//    the tolerance, so that the output is a 2-manifold without self-intersections.
+// Cap points of the cycle that are not doubles (detail::ExactPosition) enter as exact points,
+// so that the caps two spans of a polySAM leave on one posed body are exactly coplanar.
 #define CGAL_NO_CDT_2_WARNING
 
 #include <steady/sweep/envelope.hpp>
@@ -43,6 +47,7 @@
 #include <map>
 #include <numeric>
 #include <random>
+#include <set>
 #include <string>
 #include <unordered_map>
 #include <variant>
@@ -74,7 +79,8 @@ std::uint64_t edgeKey(int a, int b) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Pairs of triangles that cross (exact predicates on the double input).
+// Pairs of triangles that cross (exact predicates: Epick on double points, Epeck on the
+// cycle's exact points).
 
 // How many vertices (by index) two triangles share, and which.
 int shared(const Tri& s, const Tri& t, int* which) {
@@ -86,7 +92,9 @@ int shared(const Tri& s, const Tri& t, int* which) {
 }
 
 // Whether triangles s and t (indices into P) meet in more than their shared vertices/edge.
-bool crosses(const std::vector<IPoint>& P, const Tri& s, const Tri& t) {
+template <class Point>
+bool crosses(const std::vector<Point>& P, const Tri& s, const Tri& t) {
+  using K = typename CGAL::Kernel_traits<Point>::Kernel;
   int sv[3];
   const int n = shared(s, t, sv);
   if (n == 3) return false;  // the same triangle (either orientation): nothing to cut
@@ -114,14 +122,18 @@ bool crosses(const std::vector<IPoint>& P, const Tri& s, const Tri& t) {
     if (a0 == a1 && a0 != CGAL::COPLANAR) return false;  // s touches t's plane at v only
     const auto b0 = side(s, ot[0]), b1 = side(s, ot[1]);
     if (b0 == b1 && b0 != CGAL::COPLANAR) return false;
-    return CGAL::do_intersect(IK::Segment_3(P[os[0]], P[os[1]]), IK::Triangle_3(P[t[0]], P[t[1]], P[t[2]])) ||
-           CGAL::do_intersect(IK::Segment_3(P[ot[0]], P[ot[1]]), IK::Triangle_3(P[s[0]], P[s[1]], P[s[2]]));
+    using Segment = typename K::Segment_3;
+    using Triangle = typename K::Triangle_3;
+    return CGAL::do_intersect(Segment(P[os[0]], P[os[1]]), Triangle(P[t[0]], P[t[1]], P[t[2]])) ||
+           CGAL::do_intersect(Segment(P[ot[0]], P[ot[1]]), Triangle(P[s[0]], P[s[1]], P[s[2]]));
   }
-  return CGAL::do_intersect(IK::Triangle_3(P[s[0]], P[s[1]], P[s[2]]), IK::Triangle_3(P[t[0]], P[t[1]], P[t[2]]));
+  using Triangle = typename K::Triangle_3;
+  return CGAL::do_intersect(Triangle(P[s[0]], P[s[1]], P[s[2]]), Triangle(P[t[0]], P[t[1]], P[t[2]]));
 }
 
 // Candidate pairs: triangles whose (closed) boxes meet.
-std::vector<std::pair<int, int>> boxPairs(const std::vector<IPoint>& P, const std::vector<Tri>& T) {
+template <class Point>
+std::vector<std::pair<int, int>> boxPairs(const std::vector<Point>& P, const std::vector<Tri>& T) {
   std::vector<Box> boxes;
   boxes.reserve(T.size());
   for (std::size_t i = 0; i < T.size(); ++i)
@@ -217,10 +229,15 @@ void addConstraints(const Result& x, std::vector<Constraint>& into) {
   }
 }
 
-Arrangement arrange(const std::vector<Vec>& V, const std::vector<Tri>& T0, const SweepOptions& options) {
-  // Merge vertices with equal coordinates (-0 and +0 alike), drop degenerate triangles.
+Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPosition>& X,
+                    const std::vector<Tri>& T0, const SweepOptions& options) {
+  // Exact positions of the vertices; equal positions are merged (-0 and +0 alike), degenerate
+  // triangles dropped. Points that are not doubles (cap points placed exactly in posed faces'
+  // planes, see detail::ExactPosition) are flagged: tests that involve them use Epeck.
   std::vector<int> id(V.size());
-  std::vector<IPoint> ip;
+  std::vector<IPoint> ip;      // the double points (rounded, for flagged points)
+  std::vector<EPoint> ep;      // the exact points
+  std::vector<char> inexact;   // per point: not a double
   {
     struct Hash {
       std::size_t operator()(const std::array<double, 3>& x) const {
@@ -230,34 +247,52 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<Tri>& T0, const
       }
     };
     std::unordered_map<std::array<double, 3>, int, Hash> seen;
+    std::map<EPoint, int> seen_exact;
     for (std::size_t i = 0; i < V.size(); ++i) {
-      const std::array<double, 3> key{{V[i].x() + 0.0, V[i].y() + 0.0, V[i].z() + 0.0}};
+      std::array<double, 3> key{{V[i].x() + 0.0, V[i].y() + 0.0, V[i].z() + 0.0}};
+      const detail::ExactPosition& x = X[i];
+      if (x.a >= 0) {
+        const EPoint& A = ep[id[x.a]];
+        EK::Vector_3 d = (ep[id[x.b]] - A) * EK::FT(x.s);
+        if (x.c >= 0) d = d + (ep[id[x.c]] - A) * EK::FT(x.t);
+        const EPoint p = A + d;
+        key = {{CGAL::to_double(p.x()) + 0.0, CGAL::to_double(p.y()) + 0.0, CGAL::to_double(p.z()) + 0.0}};
+        if (p != EPoint(key[0], key[1], key[2])) {
+          auto [it, added] = seen_exact.emplace(p, static_cast<int>(ep.size()));
+          if (added) ip.emplace_back(key[0], key[1], key[2]), ep.push_back(p), inexact.push_back(1);
+          id[i] = it->second;
+          continue;
+        }
+      }
       auto [it, added] = seen.emplace(key, static_cast<int>(ip.size()));
-      if (added) ip.emplace_back(key[0], key[1], key[2]);
+      if (added) ip.emplace_back(key[0], key[1], key[2]), ep.emplace_back(key[0], key[1], key[2]), inexact.push_back(0);
       id[i] = it->second;
     }
   }
+  auto plain = [&](const Tri& t) { return !inexact[t[0]] && !inexact[t[1]] && !inexact[t[2]]; };
   std::vector<Tri> T;
   T.reserve(T0.size());
   for (const Tri& t : T0) {
     const Tri m{{id[t[0]], id[t[1]], id[t[2]]}};
     if (m[0] == m[1] || m[1] == m[2] || m[2] == m[0]) continue;
-    if (CGAL::collinear(ip[m[0]], ip[m[1]], ip[m[2]])) continue;  // no area: no winding number
+    // No area: no winding number.
+    if (plain(m) ? CGAL::collinear(ip[m[0]], ip[m[1]], ip[m[2]]) : CGAL::collinear(ep[m[0]], ep[m[1]], ep[m[2]]))
+      continue;
     T.push_back(m);
   }
 
-  // Crossing pairs and their exact intersections.
-  const auto pairs = boxPairs(ip, T);
+  // Crossing pairs (boxes of the exact points' interval approximations) and their exact
+  // intersections.
+  const auto pairs = boxPairs(ep, T);
   Arrangement out;
-  out.points.reserve(ip.size());
-  for (const IPoint& p : ip) out.points.emplace_back(p.x(), p.y(), p.z());
+  out.points = ep;
   std::vector<std::vector<Constraint>> cons(T.size());
   const auto& EP = out.points;
   std::size_t done = 0;
   for (const auto& [i, j] : pairs) {
     if (options.progress && ++done % 4096 == 0)
       options.progress({"intersect", 0.5 * static_cast<double>(done) / static_cast<double>(pairs.size())});
-    if (!crosses(ip, T[i], T[j])) continue;
+    if (plain(T[i]) && plain(T[j]) ? !crosses(ip, T[i], T[j]) : !crosses(ep, T[i], T[j])) continue;
     const EK::Triangle_3 a(EP[T[i][0]], EP[T[i][1]], EP[T[i][2]]), b(EP[T[j][0]], EP[T[j][1]], EP[T[j][2]]);
     const auto x = CGAL::intersection(a, b);
     const std::size_t before_i = cons[i].size();
@@ -283,11 +318,12 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<Tri>& T0, const
     }
     const EPoint A = out.points[T[t][0]], B = out.points[T[t][1]], C = out.points[T[t][2]];
     const EK::Vector_3 n = CGAL::cross_product(B - A, C - A);
-    // Drop the coordinate k of the largest |n_k|; (k+1, k+2) keeps the orientation iff n_k > 0.
+    // Drop the coordinate k of the largest |n_k| (compared exactly, so that coplanar triangles
+    // project alike and triangulate their overlap alike); (k+1, k+2) keeps the orientation iff
+    // n_k > 0.
     int k = 0;
-    double best = -1;
-    for (int c = 0; c < 3; ++c)
-      if (std::abs(CGAL::to_double(n[c])) > best) best = std::abs(CGAL::to_double(n[c])), k = c;
+    for (int c = 1; c < 3; ++c)
+      if (CGAL::compare(CGAL::abs(n[c]), CGAL::abs(n[k])) == CGAL::LARGER) k = c;
     const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
     const bool flip = CGAL::is_negative(n[k]);
     auto project = [&](const EPoint& p) { return EK::Point_2(p[k1], p[k2]); };
@@ -640,6 +676,83 @@ std::size_t splitPinchedVertices(std::vector<Vec>& V, std::vector<Tri>& T) {
   return copies;
 }
 
+// How far the copies of a pinch vertex are moved apart: this fraction of the distance to the
+// centroid of their fan's ring, and at most this fraction of the tolerance ε.
+constexpr double kPinchStep = 1e-3;
+
+// Moves the copies of every split pinch vertex (vertices at equal positions) a little towards
+// the centroid of their own fan's ring, so that the fans, which touched at one point, no longer
+// meet: each fan lies on its own side of the point whether it bounds a solid cone or an empty
+// one. The step is kPinchStep times the ring distance and at most kPinchStep ε; a group whose
+// moved faces would cross any face (exact test) tries half the step, up to 40 times, and is
+// put back otherwise. Returns the number of vertices that still share a position.
+std::size_t separatePinches(std::vector<Vec>& V, const std::vector<Tri>& T, double eps) {
+  std::map<std::array<double, 3>, std::vector<int>> at;
+  for (std::size_t v = 0; v < V.size(); ++v) at[{{V[v].x(), V[v].y(), V[v].z()}}].push_back(static_cast<int>(v));
+  std::vector<std::vector<int>> groups;
+  for (auto& [x, list] : at)
+    if (list.size() > 1) groups.push_back(std::move(list));
+  if (groups.empty()) return 0;
+  std::vector<std::vector<int>> faces_of(V.size());
+  for (std::size_t f = 0; f < T.size(); ++f)
+    for (int v : T[f]) faces_of[v].push_back(static_cast<int>(f));
+  // Per copy: its original position and its direction (ring centroid minus position).
+  std::vector<int> group_of(V.size(), -1);
+  std::vector<Vec> dir(V.size(), Vec::Zero()), origin(V.size(), Vec::Zero());
+  for (std::size_t g = 0; g < groups.size(); ++g)
+    for (int v : groups[g]) {
+      group_of[v] = static_cast<int>(g);
+      origin[v] = V[v];
+      Vec sum = Vec::Zero();
+      int n = 0;
+      for (int f : faces_of[v])
+        for (int w : T[f])
+          if (w != v) sum += V[w], ++n;
+      const Vec d = sum / std::max(n, 1) - V[v];
+      const double len = d.norm();
+      if (len > 0) dir[v] = d / len * std::min(kPinchStep * len, kPinchStep * eps);
+    }
+  std::vector<double> scale(groups.size(), 1.0);
+  std::vector<int> todo(groups.size());
+  std::iota(todo.begin(), todo.end(), 0);
+  for (int round = 0; round <= 40 && !todo.empty(); ++round) {
+    for (int g : todo)
+      for (int v : groups[g]) V[v] = round == 40 ? origin[v] : Vec(origin[v] + scale[g] * dir[v]);
+    if (round == 40) break;
+    // Faces moved in this round against every face: exact crossing tests on the doubles.
+    std::vector<IPoint> P;
+    P.reserve(V.size());
+    for (const Vec& x : V) P.emplace_back(x.x(), x.y(), x.z());
+    std::vector<char> moved_face(T.size(), 0);
+    for (int g : todo)
+      for (int v : groups[g])
+        for (int f : faces_of[v]) moved_face[f] = 1;
+    std::vector<Box> moved, all;
+    for (std::size_t f = 0; f < T.size(); ++f) {
+      Box b(P[T[f][0]].bbox() + P[T[f][1]].bbox() + P[T[f][2]].bbox(), f);
+      all.push_back(b);
+      if (moved_face[f]) moved.push_back(b);
+    }
+    std::vector<char> bad(groups.size(), 0);
+    auto blame = [&](std::size_t f) {
+      for (int v : T[f])
+        if (group_of[v] >= 0) bad[group_of[v]] = 1;
+    };
+    CGAL::box_intersection_d(moved.begin(), moved.end(), all.begin(), all.end(), [&](const Box& a, const Box& b) {
+      if (a.info() == b.info() || !crosses(P, T[a.info()], T[b.info()])) return;
+      blame(a.info());
+      blame(b.info());
+    });
+    std::vector<int> again;
+    for (int g : todo)
+      if (bad[g]) scale[g] *= 0.5, again.push_back(g);
+    todo.swap(again);
+  }
+  std::set<std::array<double, 3>> seen;
+  for (const Vec& x : V) seen.insert({{x.x(), x.y(), x.z()}});
+  return V.size() - seen.size();
+}
+
 void computeCheck(MeshCheck& c, const std::vector<Vec>& V, const std::vector<Tri>& T, bool self) {
   // Directed edges: closed and oriented when every edge has one face each way.
   std::unordered_map<std::uint64_t, std::array<int, 2>> edges;  // [a<b direction count, other]
@@ -727,7 +840,7 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
     for (const auto& [key, n] : net) env.cycle_open_edges += n != 0;
   }
   auto t0 = std::chrono::steady_clock::now();
-  const Arrangement A = arrange(cycle.vertices, cycle.triangles, options);
+  const Arrangement A = arrange(cycle.vertices, cycle.exact, cycle.triangles, options);
   env.intersecting_pairs = A.crossing_pairs;
   env.arrangement_triangles = A.faces.size();
   env.coincident_merged = A.merged;
@@ -773,7 +886,7 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
   // Cavities before pinches: splitting an envelope that is not closed can cut open pieces of
   // its outer surface loose, whose volume sign means nothing.
   env.thin_cavities_removed = dropThinCavities(env.triangles, eps, env.vertices);
-  splitPinchedVertices(env.vertices, env.triangles);
+  const std::size_t copies = splitPinchedVertices(env.vertices, env.triangles);
   {  // keep only the vertices still in use; count the pinches that remain (shared positions)
     std::vector<int> keep(env.vertices.size(), -1);
     std::vector<Vec> kept;
@@ -783,9 +896,8 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
         v = keep[v];
       }
     env.vertices.swap(kept);
-    std::map<std::array<double, 3>, int> seen;
-    for (const Vec& x : env.vertices) ++seen[{{x.x(), x.y(), x.z()}}];
-    env.pinched_vertices_split = env.vertices.size() - seen.size();
+    env.pinched_vertices_split = copies;
+    env.pinches_touching = separatePinches(env.vertices, env.triangles, eps);
   }
   env.timings.output = seconds(t0);
 

@@ -302,8 +302,7 @@ TEST(Envelope, DISABLED_SphereOnAScrewBetweenTubes) {
 
 // ---- cases that break naive methods ------------------------------------------------------------
 
-// Disabled: fails with the current trimming -- 30 face pairs touch or cross after rounding (pinch points). Issue "Sweep" stays open for it.
-TEST(Envelope, DISABLED_NonConvexLOnAScrew) {
+TEST(Envelope, NonConvexLOnAScrew) {
   const Mesh m = lShape(0.5);
   const Motion3 motion = single(Affine3::translation(V(-1, -1, 0)),
                                 Affine3::translation(V(0.5, 0, 1.2)) * Affine3::rotation(V(0.2, 0.1, 1), 2.4) *
@@ -313,8 +312,7 @@ TEST(Envelope, DISABLED_NonConvexLOnAScrew) {
   checkEnvelope(m, motion, env, epsOf(m, 2e-3), rng, "L on screw");
 }
 
-// Disabled: fails with the current trimming -- 45 face pairs touch or cross after rounding (pinch points). Issue "Sweep" stays open for it.
-TEST(Envelope, DISABLED_PolySamBeyondAHalfTurnPassesTwice) {
+TEST(Envelope, PolySamBeyondAHalfTurnPassesTwice) {
   // Four spans of 100 degrees about a vertical axis through the L's corner region, rising 0.1 per
   // span: 400 degrees, so the body sweeps over its own earlier path.
   const Mesh m = lShape(0.5);
@@ -342,8 +340,7 @@ TEST(Envelope, TorusKeepsItsHole) {
   checkEnvelope(m, motion, env, epsOf(m), rng, "torus along axis", co);
 }
 
-// Disabled: fails with the current trimming -- 743 face pairs touch or cross after rounding (pinch points along the thin walls). Issue "Sweep" stays open for it.
-TEST(Envelope, DISABLED_ThinPlateTumbling) {
+TEST(Envelope, ThinPlateTumbling) {
   // A plate 1.2 x 0.8 x 0.02: its two large faces are 0.02 apart, 1/70 of its size (walls
   // thinner than most features of the sweep).
   const Mesh m = box(V(-0.6, -0.4, -0.01), V(0.6, 0.4, 0.01));
