@@ -12,6 +12,8 @@
 // it for ε = 1e-3 of the body size). Where every trajectory of a grazing point is a straight
 // line traversed once (pure translations, and a scaling of a box from a corner), the
 // tessellation is exact and the volume is exact up to rounding (1e-9 relative here).
+#include <steady/io/mesh.hpp>
+#include <steady/io/motion_file.hpp>
 #include <steady/sweep/envelope.hpp>
 #include <steady/sweep/inside.hpp>
 
@@ -373,6 +375,44 @@ TEST(Envelope, PureTranslations) {
   CheckOptions co;
   co.expected_euler = 99;
   checkEnvelope(m, zigzag, sweep(m, zigzag), epsOf(m), rng, "L zig-zag", co);
+}
+
+// ---- the bundled default scene ------------------------------------------------------------------
+
+Mesh bundledBracket() {
+  const steady::io::TriangleMesh t = steady::io::readMesh(STEADY_DATA_DIR "/meshes/bracket.off");
+  return Mesh{t.vertices, t.faces};
+}
+
+// The README's main command: the bracket (non-convex, two plates with holes, genus 2) along the
+// bundled growing screw, two SAM spans joined at a pose where both spans leave caps.
+TEST(Envelope, BundledBracketOnTheGrowingScrew) {
+  const Mesh m = bundledBracket();
+  const Motion3 motion = steady::io::readMotionFile(STEADY_DATA_DIR "/motions/screw_scale.json")
+                             .motion()
+                             .toMotion(makeBody(m).box());
+  ASSERT_EQ(motion.spanCount(), 2u);
+  const Envelope env = sweep(m, motion);
+  std::mt19937_64 rng(41);
+  CheckOptions co;
+  co.expected_euler = 99;  // whether the sweep closes the plates' holes is not derived here
+  checkEnvelope(m, motion, env, epsOf(m), rng, "bracket on growing screw", co);
+}
+
+// Disabled: fails -- when a planar face contains the screw axis and the span moves along that
+// axis (a rise or a scale), the face's grazing chord lies on the axis and its strip slides along
+// itself (zero area). Computed chord points sit 1e-17 off the axis, the strip becomes a sliver
+// ribbon along the envelope's edge there, and after rounding 20 edges along the axis have four
+// faces (bracket: not closed, not manifold, 257 self-intersecting pairs). Issue "Sweep" stays
+// open for it.
+TEST(Envelope, DISABLED_FaceThroughTheScrewAxis) {
+  const Mesh m = bundledBracket();  // its upright's back face is the plane x = 0
+  const Motion3 motion = single(Affine3(), Affine3::translation(V(0, 0, 1)) * Affine3::rotation(V(0, 0, 1), M_PI / 3));
+  const Envelope env = sweep(m, motion);
+  std::mt19937_64 rng(43);
+  CheckOptions co;
+  co.expected_euler = 99;
+  checkEnvelope(m, motion, env, epsOf(m), rng, "bracket about an axis in its face", co);
 }
 
 // ---- seeded property test ----------------------------------------------------------------------
