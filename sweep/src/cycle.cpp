@@ -47,6 +47,10 @@ constexpr double kMergeParameter = 1e-12;
 // A point whose speed is at most this fraction of the body's largest speed is held fixed over
 // the span (one vertex for all times): it moves by at most 1e-12 V e^|M| in truth, far below ε.
 constexpr double kFixedSpeed = 1e-12;
+// A boundary segment whose positions at every grid row lie within this fraction of ε of the line
+// through its τ = 0 ends sweeps no area (see "Strips that slide along themselves" below); the
+// snap moves vertices by at most 1e-9 ε.
+constexpr double kOnLine = 1e-9;
 
 int sgn(double x) { return (x > 0) - (x < 0); }
 
@@ -378,6 +382,43 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
     return id1[q];
   };
 
+  // Strips that slide along themselves. A boundary segment on a line that the motion keeps
+  // invariant (a face containing a screw axis while the span rises or scales along it) sweeps
+  // no area, but its vertices, computed a few ulps off that line, make a sliver ribbon whose
+  // exact arrangement rounds into edges with four faces. When every row of such a segment lies
+  // within kOnLine of the line through its two τ = 0 ends, all its later vertices (and its
+  // τ = 0 subdivision points) are placed exactly on that line (ExactPosition on the two ends),
+  // so that its triangles have no area and drop out of the arrangement.
+  std::vector<std::array<int, 2>> line_of(np, {{-1, -1}});  // anchors (vertex ids) of the line
+  auto onLine = [&](int q, const Vec& x) {
+    const Vec& A = out.vertices[line_of[q][0]];
+    const Vec d = out.vertices[line_of[q][1]] - A;
+    return combination(line_of[q][0], line_of[q][1], -1, (x - A).dot(d) / d.squaredNorm(), 0.0);
+  };
+  for (std::size_t j = 0; j < segs.size(); ++j) {
+    const Segment& s = segs[j];
+    const Grid& grid = grids[comp_of[s.p]];
+    const Vec P0 = grid.world[0][local[s.p]];
+    const Vec d = grid.world[0][local[s.q]] - P0;
+    const double tol = kOnLine * eps;
+    if (!(d.norm() > kOnLine * eps)) continue;
+    bool flat = true;
+    for (std::size_t k = 1; k < grid.tau.size() && flat; ++k)
+      for (int q : {s.p, s.q}) flat = flat && (grid.world[k][local[q]] - P0).cross(d).norm() <= tol * d.norm();
+    if (!flat) continue;
+    const std::array<int, 2> anchors{{at0(s.p), at0(s.q)}};
+    std::vector<int> pts{s.p, s.q};
+    pts.insert(pts.end(), sub[j].begin(), sub[j].end());
+    for (int q : pts)
+      if (line_of[q][0] < 0) line_of[q] = anchors;
+    for (int q : sub[j])
+      if (id0[q] < 0) id0[q] = onLine(q, start(pt[q]));
+    for (int q : pts)
+      if (!fixed[q] && id1[q] < 0) id1[q] = onLine(q, end_pose(pt[q]));
+  }
+  // A strip vertex at an interior row: on its line when it has one.
+  auto rowVertex = [&](int q, const Vec& x) { return line_of[q][0] >= 0 ? onLine(q, x) : vertex(x); };
+
   // 5. Caps: Back (and Grazing) polygons at τ = 0, Front polygons at τ = 1, with every point
   // that lies on their sides, fanned into triangles.
   auto emitPolygon = [&](int f, std::vector<Corner> poly, bool at_end) {
@@ -479,7 +520,7 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
     for (std::size_t k = 0; k <= K; ++k)
       for (std::size_t i = 0; i < comp_points[c].size(); ++i) {
         const int q = comp_points[c][i];
-        rows[c][k].push_back(k == 0 || fixed[q] ? at0(q) : k == K ? at1(q) : vertex(grids[c].world[k][i]));
+        rows[c][k].push_back(k == 0 || fixed[q] ? at0(q) : k == K ? at1(q) : rowVertex(q, grids[c].world[k][i]));
       }
   }
   for (std::size_t j = 0; j < segs.size(); ++j) {
@@ -494,7 +535,7 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
       cur[m] = rows[c][k][local[s.q]];
       for (std::size_t i = 1; i < m; ++i) {
         const int q = sub[j][i - 1];
-        cur[i] = k == 0 || fixed[q] ? at0(q) : k == K ? at1(q) : vertex(grid.pose[k](pt[q]));
+        cur[i] = k == 0 || fixed[q] ? at0(q) : k == K ? at1(q) : rowVertex(q, grid.pose[k](pt[q]));
       }
       if (k > 0)
         for (std::size_t i = 0; i < m; ++i) {

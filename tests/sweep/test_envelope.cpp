@@ -399,13 +399,11 @@ TEST(Envelope, BundledBracketOnTheGrowingScrew) {
   checkEnvelope(m, motion, env, epsOf(m), rng, "bracket on growing screw", co);
 }
 
-// Disabled: fails -- when a planar face contains the screw axis and the span moves along that
-// axis (a rise or a scale), the face's grazing chord lies on the axis and its strip slides along
-// itself (zero area). Computed chord points sit 1e-17 off the axis, the strip becomes a sliver
-// ribbon along the envelope's edge there, and after rounding 20 edges along the axis have four
-// faces (bracket: not closed, not manifold, 257 self-intersecting pairs). Issue "Sweep" stays
-// open for it.
-TEST(Envelope, DISABLED_FaceThroughTheScrewAxis) {
+// A planar face contains the screw axis and the span rises along it: the face's grazing chord
+// lies on the axis and its strip slides along itself (no area). Before such strips were built
+// exactly on their line, the sliver ribbon left 20 edges with four faces (not closed, not
+// manifold, 257 self-intersecting pairs).
+TEST(Envelope, FaceThroughTheScrewAxis) {
   const Mesh m = bundledBracket();  // its upright's back face is the plane x = 0
   const Motion3 motion = single(Affine3(), Affine3::translation(V(0, 0, 1)) * Affine3::rotation(V(0, 0, 1), M_PI / 3));
   const Envelope env = sweep(m, motion);
@@ -413,6 +411,24 @@ TEST(Envelope, DISABLED_FaceThroughTheScrewAxis) {
   CheckOptions co;
   co.expected_euler = 99;
   checkEnvelope(m, motion, env, epsOf(m), rng, "bracket about an axis in its face", co);
+}
+
+// Disabled: fails -- the same face through the axis on a polySAM of two such spans (the old
+// default motion: quarter turns about the z axis, rising by 2.5 and scaling by 1.2): at the
+// joint the first span's strip ends on its own line while the second span's caps start from
+// the chord points on the posed edges, a few ulps apart; the output is not closed (224 directed
+// edges without their reverse) and has 918 self-intersecting pairs. Issue "Sweep" stays open
+// for it.
+TEST(Envelope, DISABLED_FaceThroughTheScrewAxisOnAPolySam) {
+  const Mesh m = bundledBracket();
+  const Affine3 quarter = Affine3::translation(V(0, 0, 2.5)) * Affine3::rotation(V(0, 0, 1), M_PI / 2) *
+                          Affine3::scaling(V(1.2, 1.2, 1.2));
+  const Motion3 motion = Motion3::polySam(std::vector<Affine3>{Affine3(), quarter, quarter * quarter});
+  const Envelope env = sweep(m, motion);
+  std::mt19937_64 rng(44);
+  CheckOptions co;
+  co.expected_euler = 99;
+  checkEnvelope(m, motion, env, epsOf(m), rng, "bracket about an axis in its face, two spans", co);
 }
 
 // ---- seeded property test ----------------------------------------------------------------------
