@@ -827,6 +827,7 @@ SweepOutput sweepCommand(const SweepRequest& request) {
   report["patches"] = envelope.patches;
   report["ray_retries"] = envelope.ray_retries;
   report["thin_cavities_removed"] = envelope.thin_cavities_removed;
+  report["thin_solids_removed"] = envelope.thin_solids_removed;
   report["rounding_merged"] = envelope.rounding_merged;
   report["pinched_vertices_split"] = envelope.pinched_vertices_split;
   report["pinches_touching"] = envelope.pinches_touching;

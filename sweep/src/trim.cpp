@@ -600,10 +600,13 @@ std::vector<int> shellForest(const std::vector<Tri>& T) {
   return parent;
 }
 
-// Removes the cavities (closed shells of negative volume) whose mean thickness 2|V|/A is at most eps:
-// pockets pinched between a cap and a strip that leaves it tangentially, artefacts of the
-// tessellation (the true surfaces are within eps of each other there). Returns how many.
-std::size_t dropThinCavities(std::vector<Tri>& T, double eps, const std::vector<Vec>& V) {
+// Removes the closed shells whose mean thickness 2|V|/A is at most eps: cavities (negative
+// volume), pockets pinched between a cap and a strip that leaves it tangentially, and solid
+// crumbs (positive volume) other than the largest solid shell, left where strips fold near a
+// tangency. Both are artefacts of the tessellation (the true surfaces are within eps of each
+// other there); the swept volume of a connected body is connected, and a crumb thinner than eps
+// is no part of any body's sweep. Returns the numbers of cavities and crumbs removed.
+std::array<std::size_t, 2> dropThinShells(std::vector<Tri>& T, double eps, const std::vector<Vec>& V) {
   std::vector<int> parent = shellForest(T);
   std::unordered_map<int, std::array<double, 2>> shell;  // root -> (volume, area)
   for (std::size_t f = 0; f < T.size(); ++f) {
@@ -628,23 +631,109 @@ std::size_t dropThinCavities(std::vector<Tri>& T, double eps, const std::vector<
       const auto& e = edge_use[edgeKey(T[f][k], T[f][(k + 1) % 3])];
       if (e[0] != 2 || e[1] != 0) open[findRoot(parent, static_cast<int>(f))] = 1;
     }
+  int largest = -1;  // the closed solid shell of largest volume
+  for (const auto& [root, x] : shell)
+    if (!open.count(root) && x[0] > 0 && (largest < 0 || x[0] > shell[largest][0])) largest = root;
   auto thin = [&](int root) {
     const auto& x = shell[root];
-    return !open.count(root) && x[0] < 0 && 2 * -x[0] <= eps * x[1];
+    return !open.count(root) && root != largest && 2 * std::abs(x[0]) <= eps * x[1];
   };
-  std::size_t dropped = 0;
-  for (const auto& [root, x] : shell) dropped += thin(root);
-  if (dropped)
+  std::array<std::size_t, 2> dropped{{0, 0}};
+  for (const auto& [root, x] : shell)
+    if (thin(root)) ++dropped[x[0] > 0 ? 1 : 0];
+  if (dropped[0] + dropped[1])
     T.erase(std::remove_if(T.begin(), T.end(),
                            [&](const Tri& t) { return thin(findRoot(parent, static_cast<int>(&t - T.data()))); }),
             T.end());
   return dropped;
 }
 
+// Where the surface touches itself along an edge (more than two faces on it), pairs each face
+// with a face across the edge: sorted by angle about the edge, faces alternate in direction and
+// the wedges between them alternate between solid and empty. By default the two faces of each
+// solid wedge are paired (the solids are separated along the edge); for the edges in
+// `empty_wedges` the two faces of each empty wedge (the solids are joined, the empty wedges
+// separated). Returns, per face and edge k (T[f][k] -> T[f][k+1]), the partner face or -1 (a
+// manifold edge, or an order that does not alternate).
+std::vector<std::array<int, 3>> pairAcrossEdges(const std::vector<Vec>& V, const std::vector<Tri>& T,
+                                                const std::set<std::uint64_t>& empty_wedges) {
+  std::vector<std::array<int, 3>> partner(T.size(), {{-1, -1, -1}});
+  std::unordered_map<std::uint64_t, std::vector<std::pair<int, int>>> on_edge;  // (face, k)
+  on_edge.reserve(3 * T.size());
+  for (std::size_t f = 0; f < T.size(); ++f)
+    for (int k = 0; k < 3; ++k) on_edge[edgeKey(T[f][k], T[f][(k + 1) % 3])].push_back({static_cast<int>(f), k});
+  for (const auto& [key, list] : on_edge) {
+    if (list.size() <= 2 || list.size() % 2) continue;
+    const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);  // a < b
+    const Vec d = (V[b] - V[a]).normalized();
+    const Vec u = d.unitOrthogonal(), w = d.cross(u);
+    struct Around {
+      double angle;
+      int face, k;
+      bool forward;  // runs a -> b: its solid side is clockwise
+    };
+    std::vector<Around> around;
+    for (const auto& [f, k] : list) {
+      const Vec o = V[T[f][(k + 2) % 3]] - V[a];
+      around.push_back({std::atan2(o.dot(w), o.dot(u)), f, k, T[f][k] == a});
+    }
+    std::sort(around.begin(), around.end(), [](const Around& x, const Around& y) { return x.angle < y.angle; });
+    const std::size_t n = around.size();
+    bool alternates = true;
+    for (std::size_t i = 0; i < n; ++i) alternates = alternates && around[i].forward != around[(i + 1) % n].forward;
+    if (!alternates) continue;
+    // A face running b -> a has its solid side counter-clockwise, one running a -> b its empty side.
+    const bool pair_backward = !empty_wedges.count(key);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (around[i].forward == pair_backward) continue;
+      const Around& x = around[i];
+      const Around& y = around[(i + 1) % n];
+      partner[x.face][x.k] = y.face;
+      partner[y.face][y.k] = x.face;
+    }
+  }
+  return partner;
+}
+
 // Gives every vertex whose faces form several fans (the surface touches itself there) one
-// copy per extra fan, so that the mesh is a 2-manifold. Requires a closed, oriented mesh.
-// Returns the number of copies made.
+// copy per extra fan, so that the mesh is a 2-manifold; along an edge where the surface touches
+// itself, the fans follow the pairs of pairAcrossEdges, so that both ends of the edge are split.
+// Separating the solid wedges of such an edge fails where the solids are joined around both
+// ends (the empty wedge between them is a pocket closed there): those edges are split again
+// from the start with their empty wedges paired. Requires a closed, oriented mesh. Returns the
+// number of copies made.
+std::size_t splitFans(std::vector<Vec>& V, std::vector<Tri>& T, const std::set<std::uint64_t>& empty_wedges,
+                      std::vector<int>& origin);
+
 std::size_t splitPinchedVertices(std::vector<Vec>& V, std::vector<Tri>& T) {
+  std::set<std::uint64_t> empty_wedges;
+  std::vector<Vec> V1;
+  std::vector<Tri> T1;
+  std::size_t copies = 0;
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    V1 = V, T1 = T;
+    std::vector<int> origin;
+    copies = splitFans(V1, T1, empty_wedges, origin);
+    // Edges that still have more than two faces, named by their original vertices.
+    std::unordered_map<std::uint64_t, int> uses;
+    for (const Tri& t : T1)
+      for (int k = 0; k < 3; ++k) ++uses[edgeKey(t[k], t[(k + 1) % 3])];
+    std::size_t added = 0;
+    for (const auto& [key, n] : uses)
+      if (n > 2)
+        added += empty_wedges.insert(edgeKey(origin[key >> 32], origin[key & 0xffffffffu])).second;
+    if (added == 0) break;
+  }
+  V.swap(V1);
+  T.swap(T1);
+  return copies;
+}
+
+std::size_t splitFans(std::vector<Vec>& V, std::vector<Tri>& T, const std::set<std::uint64_t>& empty_wedges,
+                      std::vector<int>& origin) {
+  const std::vector<std::array<int, 3>> partner = pairAcrossEdges(V, T, empty_wedges);
+  origin.resize(V.size());
+  std::iota(origin.begin(), origin.end(), 0);
   std::vector<std::vector<std::pair<int, int>>> corners(V.size());  // (face, corner)
   for (std::size_t f = 0; f < T.size(); ++f)
     for (int k = 0; k < 3; ++k) corners[T[f][k]].push_back({static_cast<int>(f), k});
@@ -655,17 +744,29 @@ std::size_t splitPinchedVertices(std::vector<Vec>& V, std::vector<Tri>& T) {
     if (cs.size() < 3) continue;
     // Around v, face (v, b, c) leads to the face that has (v, c, ...): follow the fans.
     std::unordered_map<int, std::size_t> by_next;  // b -> corner index
-    for (std::size_t i = 0; i < cs.size(); ++i) by_next[T[cs[i].first][(cs[i].second + 1) % 3]] = i;
+    std::unordered_map<int, std::size_t> by_face;  // face -> corner index
+    for (std::size_t i = 0; i < cs.size(); ++i) {
+      by_next[T[cs[i].first][(cs[i].second + 1) % 3]] = i;
+      by_face[cs[i].first] = i;
+    }
     std::vector<char> seen(cs.size(), 0);
     bool first_fan = true;
     for (std::size_t i = 0; i < cs.size(); ++i) {
       if (seen[i]) continue;
       const int target = first_fan ? static_cast<int>(v) : static_cast<int>(V.size());
-      if (!first_fan) V.push_back(V[v]), ++copies;
+      if (!first_fan) V.push_back(V[v]), origin.push_back(static_cast<int>(v)), ++copies;
       first_fan = false;
       for (std::size_t j = i; !seen[j];) {
         seen[j] = 1;
         T[cs[j].first][cs[j].second] = target;
+        // Across the edge c -> v: its paired face where the surface touches itself there.
+        const int across = partner[cs[j].first][(cs[j].second + 2) % 3];
+        if (across >= 0) {
+          auto it = by_face.find(across);
+          if (it == by_face.end()) break;
+          j = it->second;
+          continue;
+        }
         const int c = T[cs[j].first][(cs[j].second + 2) % 3];
         auto it = by_next.find(c);
         if (it == by_next.end()) break;
@@ -680,12 +781,14 @@ std::size_t splitPinchedVertices(std::vector<Vec>& V, std::vector<Tri>& T) {
 // centroid of their fan's ring, and at most this fraction of the tolerance ε.
 constexpr double kPinchStep = 1e-3;
 
-// Moves the copies of every split pinch vertex (vertices at equal positions) a little towards
-// the centroid of their own fan's ring, so that the fans, which touched at one point, no longer
-// meet: each fan lies on its own side of the point whether it bounds a solid cone or an empty
-// one. The step is kPinchStep times the ring distance and at most kPinchStep ε; a group whose
-// moved faces would cross any face (exact test) tries half the step, up to 40 times, and is
-// put back otherwise. Returns the number of vertices that still share a position.
+// Moves the copies of every split pinch vertex (vertices at equal positions) a little, so that
+// the fans, which touched at one point, no longer meet. First towards the centroid of each
+// copy's own fan ring (each fan lies on its own side of the point, whether it bounds a solid
+// cone or an empty one); where that fails (sheets touching tangentially), into the solid
+// behind the fan (against its area-weighted normal), then out of it. The step is kPinchStep
+// times the ring distance and at most kPinchStep ε; a group whose moved faces would cross any
+// face (exact test) halves its step, 20 times per direction, and is put back when no direction
+// works. Returns the number of vertices that still share a position.
 std::size_t separatePinches(std::vector<Vec>& V, const std::vector<Tri>& T, double eps) {
   std::map<std::array<double, 3>, std::vector<int>> at;
   for (std::size_t v = 0; v < V.size(); ++v) at[{{V[v].x(), V[v].y(), V[v].z()}}].push_back(static_cast<int>(v));
@@ -696,29 +799,35 @@ std::size_t separatePinches(std::vector<Vec>& V, const std::vector<Tri>& T, doub
   std::vector<std::vector<int>> faces_of(V.size());
   for (std::size_t f = 0; f < T.size(); ++f)
     for (int v : T[f]) faces_of[v].push_back(static_cast<int>(f));
-  // Per copy: its original position and its direction (ring centroid minus position).
+  // Per copy: its original position and its three candidate steps.
+  constexpr int kDirections = 3, kHalvings = 20;
   std::vector<int> group_of(V.size(), -1);
-  std::vector<Vec> dir(V.size(), Vec::Zero()), origin(V.size(), Vec::Zero());
+  std::vector<std::array<Vec, kDirections>> dir(V.size());
+  std::vector<Vec> origin(V.size(), Vec::Zero());
   for (std::size_t g = 0; g < groups.size(); ++g)
     for (int v : groups[g]) {
       group_of[v] = static_cast<int>(g);
       origin[v] = V[v];
-      Vec sum = Vec::Zero();
+      Vec sum = Vec::Zero(), normal = Vec::Zero();
       int n = 0;
-      for (int f : faces_of[v])
+      for (int f : faces_of[v]) {
         for (int w : T[f])
           if (w != v) sum += V[w], ++n;
+        normal += (V[T[f][1]] - V[T[f][0]]).cross(V[T[f][2]] - V[T[f][0]]);
+      }
       const Vec d = sum / std::max(n, 1) - V[v];
-      const double len = d.norm();
-      if (len > 0) dir[v] = d / len * std::min(kPinchStep * len, kPinchStep * eps);
+      const double len = d.norm(), step = std::min(kPinchStep * len, kPinchStep * eps);
+      for (auto& x : dir[v]) x.setZero();
+      if (len > 0) dir[v][0] = d / len * step;
+      if (normal.norm() > 0) dir[v][1] = -normal.normalized() * step, dir[v][2] = -dir[v][1];
     }
   std::vector<double> scale(groups.size(), 1.0);
+  std::vector<int> direction(groups.size(), 0);
   std::vector<int> todo(groups.size());
   std::iota(todo.begin(), todo.end(), 0);
-  for (int round = 0; round <= 40 && !todo.empty(); ++round) {
+  while (!todo.empty()) {
     for (int g : todo)
-      for (int v : groups[g]) V[v] = round == 40 ? origin[v] : Vec(origin[v] + scale[g] * dir[v]);
-    if (round == 40) break;
+      for (int v : groups[g]) V[v] = origin[v] + scale[g] * dir[v][direction[g]];
     // Faces moved in this round against every face: exact crossing tests on the doubles.
     std::vector<IPoint> P;
     P.reserve(V.size());
@@ -744,8 +853,16 @@ std::size_t separatePinches(std::vector<Vec>& V, const std::vector<Tri>& T, doub
       blame(b.info());
     });
     std::vector<int> again;
-    for (int g : todo)
-      if (bad[g]) scale[g] *= 0.5, again.push_back(g);
+    for (int g : todo) {
+      if (!bad[g]) continue;
+      scale[g] *= 0.5;
+      if (scale[g] < std::ldexp(1.0, -kHalvings)) scale[g] = 1.0, ++direction[g];
+      if (direction[g] < kDirections) {
+        again.push_back(g);
+      } else {
+        for (int v : groups[g]) V[v] = origin[v];  // no direction works: leave the pinch
+      }
+    }
     todo.swap(again);
   }
   std::set<std::array<double, 3>> seen;
@@ -885,8 +1002,14 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
   env.rounding_merged = snapVertices(env.vertices, env.triangles);
   // Cavities before pinches: splitting an envelope that is not closed can cut open pieces of
   // its outer surface loose, whose volume sign means nothing.
-  env.thin_cavities_removed = dropThinCavities(env.triangles, eps, env.vertices);
+  const auto thin = dropThinShells(env.triangles, eps, env.vertices);
+  env.thin_cavities_removed = thin[0];
+  env.thin_solids_removed = thin[1];
   const std::size_t copies = splitPinchedVertices(env.vertices, env.triangles);
+  // Splitting closes pockets that touched the surface along an edge into shells of their own.
+  const auto sealed = dropThinShells(env.triangles, eps, env.vertices);
+  env.thin_cavities_removed += sealed[0];
+  env.thin_solids_removed += sealed[1];
   {  // keep only the vertices still in use; count the pinches that remain (shared positions)
     std::vector<int> keep(env.vertices.size(), -1);
     std::vector<Vec> kept;

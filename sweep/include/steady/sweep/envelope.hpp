@@ -116,6 +116,10 @@ struct Envelope {
   /// removed: pockets pinched between a cap and a strip leaving it tangentially, artefacts of
   /// the tessellation within the tolerance.
   std::size_t thin_cavities_removed = 0;
+  /// Closed solid shells thinner than ε on average, other than the largest, that were removed:
+  /// crumbs left where strips fold near a tangency (the swept volume of a connected body is
+  /// connected), artefacts of the tessellation within the tolerance.
+  std::size_t thin_solids_removed = 0;
   /// Vertices merged after rounding because they lay within 1e-13 times the envelope's box
   /// diagonal of another (distinct exact points a few ulps apart, whose rounded slivers would
   /// cross); the triangles they collapse are dropped, which keeps the surface closed.
