@@ -26,6 +26,7 @@
 #define CGAL_NO_CDT_2_WARNING
 
 #include <steady/sweep/envelope.hpp>
+#include <steady/sweep/inside.hpp>
 
 #include "cycle.hpp"
 
@@ -34,6 +35,7 @@
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 #include <CGAL/box_intersection_d.h>
 #include <CGAL/intersections.h>
@@ -44,6 +46,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <numeric>
 #include <random>
@@ -938,7 +941,126 @@ void computeCheck(MeshCheck& c, const std::vector<Vec>& V, const std::vector<Tri
   }
 }
 
+// Distance, in units of ε, at which buriedPatches probes the empty side of a patch.
+constexpr double kBuriedProbe = 1.5;
+
+// Patches of the selection (w = 0 on one side, w >= 1 on the other) that bound a spurious empty
+// pocket inside the swept volume. Where the sweep of the grazing curve folds over itself (near
+// the trajectories of the points where the velocity is tangent to that curve), two nearly
+// coincident, oppositely oriented sheets bound a thin slab swept twice (w = k + 1). Their
+// tessellations, each within ε of its own sheet, can swap sides there and turn the slab into
+// a pocket of w = k - 1, which is w = 0 when k = 1, however deep inside the swept volume it
+// lies. A patch is buried when the point kBuriedProbe ε from its largest face's centroid
+// towards its empty side is inside the swept volume (the exact inside test): a true envelope
+// patch lies within ε of the true boundary, so that point is outside. Returns a flag per patch.
+std::vector<char> buriedPatches(const Arrangement& A, const Labels& L, double eps,
+                                const std::function<bool(const Vec&)>& inside_swept) {
+  const std::size_t np = L.w_front.size();
+  std::vector<char> flag(np, 0);
+  if (!inside_swept) return flag;
+  auto approx = [&](int v) {
+    return Vec(CGAL::to_double(A.points[v].x()), CGAL::to_double(A.points[v].y()), CGAL::to_double(A.points[v].z()));
+  };
+  // Selected patches, the side their empty side is on (+1: in front of their faces), and
+  // their largest face.
+  std::vector<int> side(np, 0), largest(np, -1);
+  std::vector<double> area(np, -1);
+  for (std::size_t p = 0; p < np; ++p) {
+    if (L.group[p] != static_cast<int>(p)) continue;
+    const int front = L.w_front[p], back = L.w_front[p] + L.jump[p];
+    side[p] = front <= 0 && back >= 1 ? 1 : back <= 0 && front >= 1 ? -1 : 0;
+  }
+  for (std::size_t f = 0; f < A.faces.size(); ++f) {
+    const int p = L.patch[f];
+    if (!side[p]) continue;
+    const Tri& t = A.faces[f];
+    const double a = (approx(t[1]) - approx(t[0])).cross(approx(t[2]) - approx(t[0])).norm();
+    if (a > area[p]) area[p] = a, largest[p] = static_cast<int>(f);
+  }
+  for (std::size_t p = 0; p < np; ++p) {
+    if (!side[p] || largest[p] < 0) continue;
+    const Tri& t = A.faces[largest[p]];
+    const Vec a = approx(t[0]), b = approx(t[1]), c = approx(t[2]);
+    const Vec n = (b - a).cross(c - a);
+    if (!(n.norm() > 0)) continue;
+    flag[p] = inside_swept((a + b + c) / 3.0 + side[p] * kBuriedProbe * eps * n.normalized());
+  }
+  return flag;
+}
+
+// Closes the surface where buried patches were left out: a pocket that opened to the outside
+// leaves a thin mouth, loops of edges with one face. The unmatched edges are followed into
+// simple loops (a vertex met again closes the loop from its first visit), and each loop is
+// triangulated by CGAL's hole filling (least area); the new faces run against the loop, so the
+// surface is closed again. Returns the number of loops filled, or -1 (and leaves T alone) when
+// some edge path does not close, some loop cannot be filled, or a filling face would leave an
+// edge with other than two faces.
+long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T) {
+  std::unordered_map<std::uint64_t, int> net;  // directed edge count, a < b positive
+  for (const Tri& t : T)
+    for (int k = 0; k < 3; ++k) net[edgeKey(t[k], t[(k + 1) % 3])] += t[k] < t[(k + 1) % 3] ? 1 : -1;
+  // Unmatched directed edges a -> b (as the faces run), by their start.
+  std::unordered_multimap<int, int> from;
+  for (const auto& [key, n] : net) {
+    if (n == 0) continue;
+    const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
+    for (int i = 0; i < std::abs(n); ++i) n > 0 ? from.emplace(a, b) : from.emplace(b, a);
+  }
+  std::vector<std::vector<int>> loops;
+  while (!from.empty()) {
+    std::vector<int> path{from.begin()->first};
+    std::unordered_map<int, std::size_t> at{{path[0], 0}};
+    for (;;) {
+      auto it = from.find(path.back());
+      if (it == from.end()) return -1;  // a dead end: the unmatched edges do not form loops
+      const int next = it->second;
+      from.erase(it);
+      auto seen = at.find(next);
+      if (seen == at.end()) {
+        at[next] = path.size();
+        path.push_back(next);
+        continue;
+      }
+      // A loop from the first visit of `next` to here; the path before it goes on.
+      loops.emplace_back(path.begin() + static_cast<std::ptrdiff_t>(seen->second), path.end());
+      for (std::size_t i = seen->second + 1; i < path.size(); ++i) at.erase(path[i]);
+      path.resize(seen->second + 1);
+      if (path.size() == 1 && !from.count(path[0])) break;
+    }
+  }
+  std::vector<Tri> added;
+  for (const std::vector<int>& loop : loops) {
+    if (loop.size() < 3) return -1;
+    std::vector<IPoint> pts;
+    for (int v : loop) pts.emplace_back(V[v].x(), V[v].y(), V[v].z());
+    std::vector<CGAL::Triple<int, int, int>> patch;
+    CGAL::Polygon_mesh_processing::triangulate_hole_polyline(pts, std::back_inserter(patch));
+    if (patch.size() != loop.size() - 2) return -1;
+    // CGAL's triangles (i, j, k), i < j < k, run along the loop; the faces next to the loop
+    // run along it too, so the filling faces are reversed.
+    for (const auto& x : patch) added.push_back({{loop[x.first], loop[x.third], loop[x.second]}});
+  }
+  // Every edge of a filling face must end up with exactly two faces, one each way (a diagonal
+  // that repeats an edge of the surface would make it non-manifold).
+  std::unordered_map<std::uint64_t, std::array<int, 2>> use;  // [faces, net direction]
+  for (const std::vector<Tri>* list : {&T, &added})
+    for (const Tri& t : *list)
+      for (int k = 0; k < 3; ++k) {
+        auto& u = use[edgeKey(t[k], t[(k + 1) % 3])];
+        ++u[0];
+        u[1] += t[k] < t[(k + 1) % 3] ? 1 : -1;
+      }
+  for (const Tri& t : added)
+    for (int k = 0; k < 3; ++k) {
+      const auto& u = use[edgeKey(t[k], t[(k + 1) % 3])];
+      if (u[0] != 2 || u[1] != 0) return -1;
+    }
+  T.insert(T.end(), added.begin(), added.end());
+  return static_cast<long>(loops.size());
+}
+
 Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const SweepOptions& options,
+                    const std::function<bool(const Vec&)>& inside_swept,
                     std::chrono::steady_clock::time_point t_start, double t_cycle) {
   Envelope env;
   env.tolerance = eps;
@@ -973,28 +1095,45 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
   // Faces with w = 0 on one side and w >= 1 on the other, towards w = 0; one of each overlap.
   t0 = std::chrono::steady_clock::now();
   if (options.progress) options.progress({"output", 0.0});
+  std::vector<char> buried = buriedPatches(A, L, eps, inside_swept);
   std::vector<int> used(A.points.size(), -1);
-  for (std::size_t f = 0; f < A.faces.size(); ++f) {
-    const int p = L.patch[f];
-    if (L.group[p] != p) continue;
-    const int front = L.w_front[p], back = L.w_front[p] + L.jump[p];
-    Tri t = A.faces[f];
-    if (front <= 0 && back >= 1) {
-    } else if (back <= 0 && front >= 1) {
-      std::swap(t[1], t[2]);
-    } else {
-      continue;
-    }
-    for (int& v : t) {
-      if (used[v] < 0) {
-        used[v] = static_cast<int>(env.vertices.size());
-        const EPoint& x = A.points[v];
-        env.vertices.emplace_back(CGAL::to_double(x.x()), CGAL::to_double(x.y()), CGAL::to_double(x.z()));
+  // The selection, without the buried patches.
+  auto select = [&]() {
+    env.vertices.clear();
+    env.triangles.clear();
+    std::fill(used.begin(), used.end(), -1);
+    for (std::size_t f = 0; f < A.faces.size(); ++f) {
+      const int p = L.patch[f];
+      if (L.group[p] != p || buried[p]) continue;
+      const int front = L.w_front[p], back = L.w_front[p] + L.jump[p];
+      Tri t = A.faces[f];
+      if (front <= 0 && back >= 1) {
+      } else if (back <= 0 && front >= 1) {
+        std::swap(t[1], t[2]);
+      } else {
+        continue;
       }
-      v = used[v];
+      for (int& v : t) {
+        if (used[v] < 0) {
+          used[v] = static_cast<int>(env.vertices.size());
+          const EPoint& x = A.points[v];
+          env.vertices.emplace_back(CGAL::to_double(x.x()), CGAL::to_double(x.y()), CGAL::to_double(x.z()));
+        }
+        v = used[v];
+      }
+      env.triangles.push_back(t);
     }
-    env.triangles.push_back(t);
+  };
+  select();
+  // Leave the buried patches out only when the mouths they open can all be closed.
+  const bool any_buried = std::find(buried.begin(), buried.end(), 1) != buried.end();
+  const long mouths = any_buried ? fillMouths(env.vertices, env.triangles) : 0;
+  if (mouths < 0) {
+    std::fill(buried.begin(), buried.end(), 0);
+    select();
   }
+  env.buried_patches_removed = static_cast<std::size_t>(std::count(buried.begin(), buried.end(), 1));
+  env.pocket_mouths_filled = mouths < 0 ? 0 : static_cast<std::size_t>(mouths);
   // Rounding: exact points that differ by a few units in the last place (e.g. input noise of
   // 1e-17 carried through exact constructions) round to points that make slivers cross. Merge
   // vertices within kSnap times the scene size (union of neighbours in a hash grid), and drop
@@ -1064,7 +1203,9 @@ Envelope sweptEnvelope(const Body& body, const Motion3& motion, const SweepOptio
     detail::appendSpanCycle(cycle, body, motion.span(i), i + 1 < n ? &next : nullptr, eps, options.grazing, options.max_steps,
                             static_cast<int>(i));
   }
-  return envelopeOf(std::move(cycle), eps, n, options, t_start, seconds(t_start));
+  const SweptVolume swept(body, motion);
+  return envelopeOf(std::move(cycle), eps, n, options, [&](const Vec& x) { return swept.contains(x); }, t_start,
+                    seconds(t_start));
 }
 
 Envelope sweptEnvelope(const Body& body, const Span3& span, const SweepOptions& options) {
@@ -1073,7 +1214,9 @@ Envelope sweptEnvelope(const Body& body, const Span3& span, const SweepOptions& 
   detail::Cycle cycle;
   if (options.progress) options.progress({"cycle", 0.0});
   detail::appendSpanCycle(cycle, body, span, nullptr, eps, options.grazing, options.max_steps, 0);
-  return envelopeOf(std::move(cycle), eps, 1, options, t_start, seconds(t_start));
+  const SweptVolume swept(body, span);
+  return envelopeOf(std::move(cycle), eps, 1, options, [&](const Vec& x) { return swept.contains(x); }, t_start,
+                    seconds(t_start));
 }
 
 MeshCheck inspectMesh(const std::vector<Eigen::Vector3d>& vertices, const std::vector<std::array<int, 3>>& triangles,

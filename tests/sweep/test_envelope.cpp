@@ -179,9 +179,9 @@ void checkEnvelope(const Mesh& mesh, const Motion3& motion, const Envelope& env,
                     << " (min signed distance in [" << b.lo << ", " << b.hi << "], eps " << eps << ")";
   }
   std::printf("[ info     ] %-26s %6zu tri  eps %.2e  V %.5f  A %.4f  %.2fs | outside-by <= %.3f eps (%d/%d fail) | "
-              "boundary <= %.3f eps (%d/%d fail, %d undecided) | cross %d/%d mismatch\n",
+              "boundary <= %.3f eps (%d/%d fail, %d undecided) | cross %d/%d mismatch | buried patches %zu, mouths %zu\n",
               name.c_str(), ef.size(), eps, vol, area, env.timings.total, worst, failed, checked, bworst, bfailed, bchecked,
-              bundecided, cmismatch, cchecked);
+              bundecided, cmismatch, cchecked, env.buried_patches_removed, env.pocket_mouths_filled);
 }
 
 // The envelope of `mesh` along `motion` with default options (plus the given tolerance), and

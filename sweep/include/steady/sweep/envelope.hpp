@@ -120,6 +120,13 @@ struct Envelope {
   /// crumbs left where strips fold near a tangency (the swept volume of a connected body is
   /// connected), artefacts of the tessellation within the tolerance.
   std::size_t thin_solids_removed = 0;
+  /// Patches left out because they bounded an empty pocket inside the swept volume: the point
+  /// 1.5 ε beyond them on their empty side is inside (the exact inside test). Such pockets
+  /// appear where the sweep of the grazing curve folds over itself and the tessellations of
+  /// the two nearly coincident sheets swap sides.
+  std::size_t buried_patches_removed = 0;
+  /// Mouths of such pockets (loops of edges left with one face) closed by hole filling.
+  std::size_t pocket_mouths_filled = 0;
   /// Vertices merged after rounding because they lay within 1e-13 times the envelope's box
   /// diagonal of another (distinct exact points a few ulps apart, whose rounded slivers would
   /// cross); the triangles they collapse are dropped, which keeps the surface closed.
