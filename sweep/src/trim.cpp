@@ -941,8 +941,16 @@ void computeCheck(MeshCheck& c, const std::vector<Vec>& V, const std::vector<Tri
   }
 }
 
-// Distance, in units of ε, at which buriedPatches probes the empty side of a patch.
+// The share of the tolerance ε given to the tessellation of the strips. A strip is then within
+// ε/2 of its true surface, and a pocket left where two such strips swap sides is at most about
+// as deep as their errors together; buriedPatches finds the pockets deeper than 1.5 times the
+// tessellation tolerance (0.75 ε), so what remains of them lies within ε of the true boundary.
+constexpr double kTessellationShare = 0.5;
+// Distance, in units of the tessellation tolerance, at which buriedPatches probes the empty
+// side of a patch.
 constexpr double kBuriedProbe = 1.5;
+// Rounds of keeping the buried patches at mouths that cannot be closed, before none are left out.
+constexpr int kMouthRounds = 16;
 
 // Patches of the selection (w = 0 on one side, w >= 1 on the other) that bound a spurious empty
 // pocket inside the swept volume. Where the sweep of the grazing curve folds over itself (near
@@ -950,10 +958,11 @@ constexpr double kBuriedProbe = 1.5;
 // coincident, oppositely oriented sheets bound a thin slab swept twice (w = k + 1). Their
 // tessellations, each within ε of its own sheet, can swap sides there and turn the slab into
 // a pocket of w = k - 1, which is w = 0 when k = 1, however deep inside the swept volume it
-// lies. A patch is buried when the point kBuriedProbe ε from its largest face's centroid
-// towards its empty side is inside the swept volume (the exact inside test): a true envelope
-// patch lies within ε of the true boundary, so that point is outside. Returns a flag per patch.
-std::vector<char> buriedPatches(const Arrangement& A, const Labels& L, double eps,
+// lies. A patch is buried when the point kBuriedProbe eps_t from its largest face's centroid
+// towards its empty side is inside the swept volume (the exact inside test), eps_t the
+// tessellation tolerance: a true envelope patch lies within eps_t of the true boundary, so
+// that point is outside. Returns a flag per patch.
+std::vector<char> buriedPatches(const Arrangement& A, const Labels& L, double eps_t,
                                 const std::function<bool(const Vec&)>& inside_swept) {
   const std::size_t np = L.w_front.size();
   std::vector<char> flag(np, 0);
@@ -983,7 +992,7 @@ std::vector<char> buriedPatches(const Arrangement& A, const Labels& L, double ep
     const Vec a = approx(t[0]), b = approx(t[1]), c = approx(t[2]);
     const Vec n = (b - a).cross(c - a);
     if (!(n.norm() > 0)) continue;
-    flag[p] = inside_swept((a + b + c) / 3.0 + side[p] * kBuriedProbe * eps * n.normalized());
+    flag[p] = inside_swept((a + b + c) / 3.0 + side[p] * kBuriedProbe * eps_t * n.normalized());
   }
   return flag;
 }
@@ -994,8 +1003,8 @@ std::vector<char> buriedPatches(const Arrangement& A, const Labels& L, double ep
 // triangulated by CGAL's hole filling (least area); the new faces run against the loop, so the
 // surface is closed again. Returns the number of loops filled, or -1 (and leaves T alone) when
 // some edge path does not close, some loop cannot be filled, or a filling face would leave an
-// edge with other than two faces.
-long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T) {
+// edge with other than two faces; `trouble` then holds the vertices of the first such path.
+long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>& trouble) {
   std::unordered_map<std::uint64_t, int> net;  // directed edge count, a < b positive
   for (const Tri& t : T)
     for (int k = 0; k < 3; ++k) net[edgeKey(t[k], t[(k + 1) % 3])] += t[k] < t[(k + 1) % 3] ? 1 : -1;
@@ -1012,7 +1021,7 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T) {
     std::unordered_map<int, std::size_t> at{{path[0], 0}};
     for (;;) {
       auto it = from.find(path.back());
-      if (it == from.end()) return -1;  // a dead end: the unmatched edges do not form loops
+      if (it == from.end()) return trouble = path, -1;  // a dead end: the edges form no loop
       const int next = it->second;
       from.erase(it);
       auto seen = at.find(next);
@@ -1029,16 +1038,20 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T) {
     }
   }
   std::vector<Tri> added;
+  std::vector<int> loop_of;  // per added face: its loop
   for (const std::vector<int>& loop : loops) {
-    if (loop.size() < 3) return -1;
+    if (loop.size() < 3) return trouble = loop, -1;
     std::vector<IPoint> pts;
     for (int v : loop) pts.emplace_back(V[v].x(), V[v].y(), V[v].z());
     std::vector<CGAL::Triple<int, int, int>> patch;
     CGAL::Polygon_mesh_processing::triangulate_hole_polyline(pts, std::back_inserter(patch));
-    if (patch.size() != loop.size() - 2) return -1;
+    if (patch.size() != loop.size() - 2) return trouble = loop, -1;
     // CGAL's triangles (i, j, k), i < j < k, run along the loop; the faces next to the loop
     // run along it too, so the filling faces are reversed.
-    for (const auto& x : patch) added.push_back({{loop[x.first], loop[x.third], loop[x.second]}});
+    for (const auto& x : patch) {
+      added.push_back({{loop[x.first], loop[x.third], loop[x.second]}});
+      loop_of.push_back(static_cast<int>(&loop - loops.data()));
+    }
   }
   // Every edge of a filling face must end up with exactly two faces, one each way (a diagonal
   // that repeats an edge of the surface would make it non-manifold).
@@ -1050,10 +1063,10 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T) {
         ++u[0];
         u[1] += t[k] < t[(k + 1) % 3] ? 1 : -1;
       }
-  for (const Tri& t : added)
+  for (std::size_t f = 0; f < added.size(); ++f)
     for (int k = 0; k < 3; ++k) {
-      const auto& u = use[edgeKey(t[k], t[(k + 1) % 3])];
-      if (u[0] != 2 || u[1] != 0) return -1;
+      const auto& u = use[edgeKey(added[f][k], added[f][(k + 1) % 3])];
+      if (u[0] != 2 || u[1] != 0) return trouble = loops[loop_of[f]], -1;
     }
   T.insert(T.end(), added.begin(), added.end());
   return static_cast<long>(loops.size());
@@ -1095,7 +1108,7 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
   // Faces with w = 0 on one side and w >= 1 on the other, towards w = 0; one of each overlap.
   t0 = std::chrono::steady_clock::now();
   if (options.progress) options.progress({"output", 0.0});
-  std::vector<char> buried = buriedPatches(A, L, eps, inside_swept);
+  std::vector<char> buried = buriedPatches(A, L, kTessellationShare * eps, inside_swept);
   std::vector<int> used(A.points.size(), -1);
   // The selection, without the buried patches.
   auto select = [&]() {
@@ -1124,13 +1137,30 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
       env.triangles.push_back(t);
     }
   };
-  select();
-  // Leave the buried patches out only when the mouths they open can all be closed.
-  const bool any_buried = std::find(buried.begin(), buried.end(), 1) != buried.end();
-  const long mouths = any_buried ? fillMouths(env.vertices, env.triangles) : 0;
-  if (mouths < 0) {
-    std::fill(buried.begin(), buried.end(), 0);
+  // Leave the buried patches out only where the mouths they open can be closed: the buried
+  // patches at a mouth that cannot be closed are kept, and the selection is made again (a few
+  // rounds, then none are left out).
+  long mouths = 0;
+  for (int round = 0;; ++round) {
     select();
+    if (std::find(buried.begin(), buried.end(), 1) == buried.end()) break;
+    std::vector<int> trouble;
+    mouths = fillMouths(env.vertices, env.triangles, trouble);
+    if (mouths >= 0) break;
+    mouths = 0;
+    if (round == kMouthRounds) {
+      std::fill(buried.begin(), buried.end(), 0);
+      continue;
+    }
+    // Keep the buried patches with a vertex on the troubled path.
+    std::vector<char> at_mouth(A.points.size(), 0);
+    std::vector<int> point_of(env.vertices.size(), -1);
+    for (std::size_t v = 0; v < used.size(); ++v)
+      if (used[v] >= 0) point_of[used[v]] = static_cast<int>(v);
+    for (int v : trouble) at_mouth[point_of[v]] = 1;
+    for (std::size_t f = 0; f < A.faces.size(); ++f)
+      if (buried[L.patch[f]] && (at_mouth[A.faces[f][0]] || at_mouth[A.faces[f][1]] || at_mouth[A.faces[f][2]]))
+        buried[L.patch[f]] = 0;
   }
   env.buried_patches_removed = static_cast<std::size_t>(std::count(buried.begin(), buried.end(), 1));
   env.pocket_mouths_filled = mouths < 0 ? 0 : static_cast<std::size_t>(mouths);
@@ -1200,7 +1230,8 @@ Envelope sweptEnvelope(const Body& body, const Motion3& motion, const SweepOptio
     if (options.progress) options.progress({"cycle", static_cast<double>(i) / static_cast<double>(n)});
     // Joints use the next span's start pose, so that consecutive caps coincide exactly.
     const Affine3 next = i + 1 < n ? motion.span(i + 1).start() : Affine3();
-    detail::appendSpanCycle(cycle, body, motion.span(i), i + 1 < n ? &next : nullptr, eps, options.grazing, options.max_steps,
+    detail::appendSpanCycle(cycle, body, motion.span(i), i + 1 < n ? &next : nullptr, kTessellationShare * eps,
+                            options.grazing, options.max_steps,
                             static_cast<int>(i));
   }
   const SweptVolume swept(body, motion);
@@ -1213,7 +1244,7 @@ Envelope sweptEnvelope(const Body& body, const Span3& span, const SweepOptions& 
   const double eps = resolveTolerance(body, options);
   detail::Cycle cycle;
   if (options.progress) options.progress({"cycle", 0.0});
-  detail::appendSpanCycle(cycle, body, span, nullptr, eps, options.grazing, options.max_steps, 0);
+  detail::appendSpanCycle(cycle, body, span, nullptr, kTessellationShare * eps, options.grazing, options.max_steps, 0);
   const SweptVolume swept(body, span);
   return envelopeOf(std::move(cycle), eps, 1, options, [&](const Vec& x) { return swept.contains(x); }, t_start,
                     seconds(t_start));

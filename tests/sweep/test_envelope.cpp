@@ -274,11 +274,7 @@ TEST(Envelope, BoxTurningAboutItsAxis) {
   EXPECT_NEAR(env.area, area, 0.01 * area);
 }
 
-// Disabled: fails -- 22 of 120 sampled envelope vertices lie 1.02-1.09 eps inside a posed body
-// and the surface has 70 handles (Euler characteristic -138, expected 2): thin internal slits
-// where two nearly coincident, oppositely oriented strips swap sides within their tolerance
-// (see the README, "What does not hold yet"). Issue "Sweep" stays open for it.
-TEST(Envelope, DISABLED_SphereOnAScrewBetweenTubes) {
+TEST(Envelope, SphereOnAScrewBetweenTubes) {
   // A ball of radius r on a rigid motion sweeps the union of balls about its centre's path: for
   // a path of length L whose curvature radius exceeds r and that does not come back near itself,
   // a tube (pi r^2 L, Pappus) plus two half-balls: pi r^2 L + 4/3 pi r^3. The polyhedral sphere
@@ -436,10 +432,7 @@ TEST(Envelope, DISABLED_FaceThroughTheScrewAxisOnAPolySam) {
 
 // ---- seeded property test ----------------------------------------------------------------------
 
-// Disabled: fails -- on sphere/screw 24 of 60 sampled envelope vertices lie inside a posed body
-// by more than eps (up to 10 eps), and on torus/polysam one by 1.17 eps: the thin internal slits
-// of SphereOnAScrewBetweenTubes. The other ten cases pass. Issue "Sweep" stays open for it.
-TEST(Envelope, DISABLED_ContainsEveryPosedBodyOnRandomMotions) {
+TEST(Envelope, ContainsEveryPosedBodyOnRandomMotions) {
   // Motions from one generator, checks from one per case: the cases do not depend on how many
   // draws the checks of earlier envelopes took.
   std::mt19937_64 rng(4242);

@@ -19,10 +19,14 @@
 ///    end (the only rounding of the result).
 ///
 /// Tolerance. The only approximation is the tessellation of the swept strips in time and along
-/// the grazing curves: every point of a true swept strip is within ε of the tessellated strip
-/// (bound derived in candidates.hpp, not sampled). Caps and grazing curves are exact up to
-/// rounding. So every envelope vertex lies within ε of the true boundary, and every posed body
-/// point lies inside the envelope or within ε of it.
+/// the grazing curves: every point of a true swept strip is within ε/2 of the tessellated strip
+/// (bound derived in tessellation.hpp, not sampled). Caps and grazing curves are exact up to
+/// rounding. Where the sweep of the grazing curve folds over itself, two tessellated strips can
+/// swap sides and leave a thin empty pocket inside the swept volume; pockets whose walls have
+/// their empty side inside the swept volume 0.75 ε beyond them (the exact inside test) are
+/// removed and their mouths closed (Envelope::buried_patches_removed). So every envelope vertex
+/// lies within ε of the true boundary, and every posed body point lies inside the envelope or
+/// within ε of it.
 
 #include <steady/core/motion.hpp>
 #include <steady/sweep/body.hpp>
@@ -48,7 +52,8 @@ struct SweepProgress {
 
 /// Options of sweptEnvelope().
 struct SweepOptions {
-  /// ε: the largest distance between the tessellated and the true swept strips (world units).
+  /// ε: the largest distance between the envelope and the true boundary of the swept volume
+  /// (world units); the strips are tessellated to ε/2 (see the file comment).
   /// Unset: `relative_tolerance` times the bounding-box diagonal of the body (body coordinates).
   std::optional<double> tolerance;
   /// Used when `tolerance` is unset. Default 1e-3.
@@ -121,7 +126,7 @@ struct Envelope {
   /// connected), artefacts of the tessellation within the tolerance.
   std::size_t thin_solids_removed = 0;
   /// Patches left out because they bounded an empty pocket inside the swept volume: the point
-  /// 1.5 ε beyond them on their empty side is inside (the exact inside test). Such pockets
+  /// 0.75 ε beyond them on their empty side is inside (the exact inside test). Such pockets
   /// appear where the sweep of the grazing curve folds over itself and the tessellations of
   /// the two nearly coincident sheets swap sides.
   std::size_t buried_patches_removed = 0;
