@@ -9,7 +9,12 @@
 //   affine - a 60 degree turn about a tilted axis, scaling (1.3, 0.8, 1.1), a shear of 0.2 and
 //            the descent.
 // Benchmarks (one query per iteration; the scene and FCL's BVHs are built once, outside):
-//   BM_SteadyFirstContact/<mesh>/<motion>    StaticScene::firstContact, exact
+//   BM_SteadyFirstContact/<mesh>/<motion>    StaticScene::firstContact of a PreparedMesh, exact.
+//                                             The moving mesh's hierarchy is built once outside
+//                                             the timed loop, as FCL's BVH of the moving mesh is
+//                                             for BM_FclSampled (a like-for-like comparison)
+//   BM_SteadyFirstContactUnprepared/<mesh>/<motion>  the same query from plain vertex and face
+//                                             arrays (no hierarchy kept between queries)
 //   BM_FclSampled<N>/<mesh>/<motion>          fcl::collide at N+1 poses of the same SAM (N = 100,
 //                                             1000), stopping at the first colliding pose; the
 //                                             counter `late` is how much later than steady's
@@ -104,6 +109,7 @@ Scene& scene() {
 // The moving body, scaled to diagonal 1, centred at the origin (body coordinates).
 struct Body {
   steady::io::TriangleMesh mesh;
+  std::unique_ptr<steady::PreparedMesh> prepared;  // built once, like FCL's BVH below
   double half_height = 0;
 #ifdef STEADY_BENCH_FCL
   std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> fcl;
@@ -120,6 +126,7 @@ const Body& body(const std::string& name) {
   double zlo = b.mesh.vertices.front().z(), zhi = zlo;
   for (const V& p : b.mesh.vertices) zlo = std::min(zlo, p.z()), zhi = std::max(zhi, p.z());
   b.half_height = 0.5 * (zhi - zlo);
+  b.prepared = std::make_unique<steady::PreparedMesh>(b.mesh.vertices, b.mesh.faces);
 #ifdef STEADY_BENCH_FCL
   b.fcl = fclModel(b.mesh);
 #endif
@@ -143,12 +150,14 @@ steady::Motion3 motionFor(const Body& b, bool screw) {
   return steady::Motion3::polySam(std::vector<steady::Affine3>{B, C});
 }
 
-double steadyFirst(const Body& b, const steady::Motion3& m, steady::CollideStats* stats = nullptr) {
-  const auto c = scene().steady->firstContact(b.mesh.vertices, b.mesh.faces, m, {}, stats);
+double steadyFirst(const Body& b, const steady::Motion3& m, steady::CollideStats* stats = nullptr,
+                   bool prepared = true) {
+  const auto c = prepared ? scene().steady->firstContact(*b.prepared, m, {}, stats)
+                          : scene().steady->firstContact(b.mesh.vertices, b.mesh.faces, m, {}, stats);
   return c ? c->t : 2.0;
 }
 
-void BM_SteadyFirstContact(benchmark::State& state, const std::string& name, bool screw) {
+void BM_SteadyFirstContact(benchmark::State& state, const std::string& name, bool screw, bool prepared) {
   scene();  // built once, outside the timed loop
   const Body& b = body(name);
   const steady::Motion3 m = motionFor(b, screw);
@@ -156,7 +165,7 @@ void BM_SteadyFirstContact(benchmark::State& state, const std::string& name, boo
   double t = 2;
   for (auto _ : state) {
     stats = {};
-    t = steadyFirst(b, m, &stats);
+    t = steadyFirst(b, m, &stats, prepared);
     benchmark::DoNotOptimize(static_cast<const double&>(t));
   }
   state.counters["t_contact"] = t;
@@ -164,6 +173,7 @@ void BM_SteadyFirstContact(benchmark::State& state, const std::string& name, boo
   state.counters["scene_faces"] = static_cast<double>(scene().mesh.faces.size());
   state.counters["scene_build_s"] = scene().build_seconds;
   state.counters["pairs"] = static_cast<double>(stats.pairs_solved);
+  state.counters["solves"] = static_cast<double>(stats.feature_solves);
   state.counters["broad_ms"] = 1e3 * stats.broad_seconds;
   state.counters["narrow_ms"] = 1e3 * stats.narrow_seconds;
 }
@@ -265,7 +275,11 @@ const bool registered = [] {
     if (!std::ifstream(meshPath(name)).good()) continue;
     for (bool screw : {true, false}) {
       const std::string tag = std::string(name) + "/" + (screw ? "screw" : "affine");
-      benchmark::RegisterBenchmark(("BM_SteadyFirstContact/" + tag).c_str(), BM_SteadyFirstContact, std::string(name), screw)
+      benchmark::RegisterBenchmark(("BM_SteadyFirstContact/" + tag).c_str(), BM_SteadyFirstContact, std::string(name),
+                                   screw, true)
+          ->Unit(benchmark::kMillisecond);
+      benchmark::RegisterBenchmark(("BM_SteadyFirstContactUnprepared/" + tag).c_str(), BM_SteadyFirstContact,
+                                   std::string(name), screw, false)
           ->Unit(benchmark::kMillisecond);
 #ifdef STEADY_BENCH_FCL
       for (int n : {100, 1000})

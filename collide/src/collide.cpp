@@ -210,6 +210,131 @@ bool onTriangle(const Vec& x, const Vec& p, const Vec& q, const Vec& r, double t
 
 }  // namespace
 
+// ---- one candidate pair -------------------------------------------------------------------------
+
+namespace detail {
+
+void solveTrianglePair(const SceneData& st, const PairSpan& ps, const MovingTriangle& m, std::size_t g, double a,
+                       double hi, double tol, double margin, CollideStats& stats, std::vector<Contact>& out) {
+    ++stats.pairs_solved;
+    const auto& mf = m.v;
+    const auto& sf = st.F[g];
+    std::vector<ContactRoot> roots;
+    auto make = [&](ContactType type, const ContactRoot& r) {
+      Contact c;
+      c.span = ps.span_index;
+      c.span_time = r.lo;
+      c.t = ps.t0 + r.lo * (ps.t1 - ps.t0);
+      c.type = type;
+      c.crossing = r.crossing;
+      c.certain = r.certain;
+      return c;
+    };
+    // Feature culling. The broad phase placed this interval's vertices: over [a, b] moving vertex
+    // v stays within rad[v] of mid[v], so a moving edge or face stays in the box of its vertices'
+    // balls. Features whose boxes stay farther apart than the contact distance cannot meet.
+    auto ballBox = [&](std::initializer_list<int> vs, Vec& box_lo, Vec& box_hi) {
+      box_lo = Vec::Constant(std::numeric_limits<double>::infinity());
+      box_hi = -box_lo;
+      for (const int v : vs) {
+        box_lo = box_lo.cwiseMin(m.mid[v] - Vec::Constant(m.rad[v]));
+        box_hi = box_hi.cwiseMax(m.mid[v] + Vec::Constant(m.rad[v]));
+      }
+    };
+    auto apart = [&](const Vec& alo, const Vec& ahi, const Vec& blo, const Vec& bhi) {
+      return (alo.array() > bhi.array() + margin).any() || (blo.array() > ahi.array() + margin).any();
+    };
+    const Vec slo = st.V[sf[0]].cwiseMin(st.V[sf[1]]).cwiseMin(st.V[sf[2]]);
+    const Vec shi = st.V[sf[0]].cwiseMax(st.V[sf[1]]).cwiseMax(st.V[sf[2]]);
+    Vec mlo, mhi;
+    ballBox({0, 1, 2}, mlo, mhi);
+    // Finer culling by distances at the middle: a moving point stays within rad of its middle
+    // position, so a feature that is farther than its largest rad (plus the contact distance and
+    // a rounding margin of 1e-12 of the coordinates) from a static feature at the middle never
+    // meets it; the roots it would give are rejected by the on-feature checks anyway.
+    const double near = margin + 1e-12 * (mlo.cwiseAbs().cwiseMax(mhi.cwiseAbs()).maxCoeff() +
+                                          slo.cwiseAbs().cwiseMax(shi.cwiseAbs()).maxCoeff());
+    const double R = std::max({m.rad[0], m.rad[1], m.rad[2]});
+    // Moving vertices against the static face's plane.
+    for (int k = 0; k < 3; ++k) {
+      Vec vlo, vhi;
+      ballBox({k}, vlo, vhi);
+      if (apart(vlo, vhi, slo, shi)) continue;
+      if ((m.mid[k] - closestOnTriangle(m.mid[k], st.V[sf[0]], st.V[sf[1]], st.V[sf[2]])).norm() > m.rad[k] + near)
+        continue;
+      roots.clear();
+      ++stats.feature_solves;
+      ps.fwd->pointPlane(m.W0[k], st.normal[g], st.offset[g], a, hi, roots);
+      for (const ContactRoot& r : roots) {
+        const Vec x = ps.fwd->power(r.t).applyPoint(m.W0[k]);
+        Vec cp;
+        if (!onTriangle(x, st.V[sf[0]], st.V[sf[1]], st.V[sf[2]], tol, cp) && r.certain) continue;
+        Contact c = make(ContactType::VertexFace, r);
+        c.a = {mf[k], -1};
+        c.b = {static_cast<int>(g), -1};
+        c.point = cp;
+        c.normal = st.normal[g];
+        out.push_back(c);
+      }
+    }
+    // Static vertices against the moving face (in the frame of the span start, on the inverse span).
+    const Vec n0 = (m.W0[1] - m.W0[0]).cross(m.W0[2] - m.W0[0]);
+    const double h0 = n0.dot(m.W0[0]);
+    for (int k = 0; k < 3; ++k) {
+      if (apart(st.V[sf[k]], st.V[sf[k]], mlo, mhi)) continue;
+      if ((st.V[sf[k]] - closestOnTriangle(st.V[sf[k]], m.mid[0], m.mid[1], m.mid[2])).norm() > R + near) continue;
+      roots.clear();
+      ++stats.feature_solves;
+      ps.inv->pointPlane(st.V[sf[k]], n0, h0, a, hi, roots);
+      for (const ContactRoot& r : roots) {
+        const Affine3 Pt = ps.fwd->power(r.t);
+        const Vec X0 = Pt.applyPoint(m.W0[0]), X1 = Pt.applyPoint(m.W0[1]), X2 = Pt.applyPoint(m.W0[2]);
+        Vec cp;
+        if (!onTriangle(st.V[sf[k]], X0, X1, X2, tol, cp) && r.certain) continue;
+        Contact c = make(ContactType::FaceVertex, r);
+        c.a = {m.face, -1};
+        c.b = {sf[k], -1};
+        c.point = st.V[sf[k]];
+        c.normal = (X1 - X0).cross(X2 - X0).normalized();
+        out.push_back(c);
+      }
+    }
+    // Edges against edges.
+    for (int i = 0; i < 3; ++i) {
+      const int ma = mf[i], mb = mf[(i + 1) % 3];
+      Vec elo, ehi;
+      ballBox({i, (i + 1) % 3}, elo, ehi);
+      for (int j = 0; j < 3; ++j) {
+        const int sa = sf[j], sb = sf[(j + 1) % 3];
+        if (apart(elo, ehi, st.V[sa].cwiseMin(st.V[sb]), st.V[sa].cwiseMax(st.V[sb]))) continue;
+        Vec cp0, cq0;
+        if (segmentDistance(m.mid[i], m.mid[(i + 1) % 3], st.V[sa], st.V[sb], cp0, cq0) >
+            std::max(m.rad[i], m.rad[(i + 1) % 3]) + near)
+          continue;
+        roots.clear();
+        ++stats.feature_solves;
+        ps.fwd->edgeEdge(m.W0[i], m.W0[(i + 1) % 3], st.V[sa], st.V[sb], a, hi, roots);
+        for (const ContactRoot& r : roots) {
+          const Affine3 Pt = ps.fwd->power(r.t);
+          const Vec x0 = Pt.applyPoint(m.W0[i]), x1 = Pt.applyPoint(m.W0[(i + 1) % 3]);
+          Vec cp, cq;
+          const double scale = x0.cwiseAbs().maxCoeff() + (x1 - x0).norm() + st.V[sa].cwiseAbs().maxCoeff() +
+                               (st.V[sb] - st.V[sa]).norm();
+          if (segmentDistance(x0, x1, st.V[sa], st.V[sb], cp, cq) > tol + 1e-13 * scale && r.certain) continue;
+          Contact c = make(ContactType::EdgeEdge, r);
+          c.a = {std::min(ma, mb), std::max(ma, mb)};
+          c.b = {std::min(sa, sb), std::max(sa, sb)};
+          c.point = 0.5 * (cp + cq);
+          const Vec n = (x1 - x0).cross(st.V[sb] - st.V[sa]);
+          c.normal = n.norm() > 0 ? n.normalized() : Vec::Zero();
+          out.push_back(c);
+        }
+      }
+    }
+}
+
+}  // namespace detail
+
 // ---- the static scene ---------------------------------------------------------------------------
 
 StaticScene::StaticScene(std::vector<Vec> vertices, Faces faces) : impl_(std::make_unique<Impl>()) {
@@ -235,6 +360,7 @@ StaticScene::StaticScene(std::vector<Vec> vertices, Faces faces) : impl_(std::ma
   s.scene = rtcNewScene(s.device);
   rtcSetSceneBuildQuality(s.scene, RTC_BUILD_QUALITY_HIGH);
   addUserGeometry(s.device, s.scene, static_cast<unsigned>(s.F.size()), &SceneData::bounds, static_cast<SceneData*>(&s));
+  buildStaticTree(s);
 }
 
 StaticScene::~StaticScene() = default;
@@ -281,6 +407,15 @@ Span3 inverseSpan(const Span3& sp) {
   Span3 a(inv), b(inv, cw);
   return (a.log().M + sp.log().M).norm() <= (b.log().M + sp.log().M).norm() ? a : b;
 }
+
+}  // namespace
+
+namespace detail {
+void mergeContactEvents(std::vector<Contact>& out) { mergeEvents(out); }
+Span3 inverseOf(const Span3& sp) { return inverseSpan(sp); }
+}  // namespace detail
+
+namespace {
 
 struct Query {
   const SceneData& st;
@@ -511,110 +646,26 @@ struct Query {
   template <class Emit>
   void solvePair(std::size_t span_index, const SpanData& d, double a, double b, std::size_t f, std::size_t g,
                  double limit, Emit&& emit) {
-    ++stats.pairs_solved;
-    const auto& mf = F[f];
-    const auto& sf = st.F[g];
-    std::vector<ContactRoot> roots;
     const double hi = std::min(b, limit);
-    if (hi < a) return;
-    auto make = [&](ContactType type, const ContactRoot& r) {
-      Contact c;
-      c.span = span_index;
-      c.span_time = r.lo;
-      c.t = globalTime(d, r.lo);
-      c.type = type;
-      c.crossing = r.crossing;
-      c.certain = r.certain;
-      return c;
-    };
-    // Feature culling. The broad phase placed this interval's vertices: over [a, b] moving vertex
-    // v stays within rad[v] of mid[v], so a moving edge or face stays in the box of its vertices'
-    // balls. Features whose boxes stay farther apart than the contact distance cannot meet.
-    const double margin = tol + 1e-12 * (st.diag + body_diag);
-    auto ballBox = [&](std::initializer_list<int> vs, Vec& box_lo, Vec& box_hi) {
-      box_lo = Vec::Constant(std::numeric_limits<double>::infinity());
-      box_hi = -box_lo;
-      for (const int v : vs) {
-        box_lo = box_lo.cwiseMin(mid[v] - Vec::Constant(rad[v]));
-        box_hi = box_hi.cwiseMax(mid[v] + Vec::Constant(rad[v]));
-      }
-    };
-    auto apart = [&](const Vec& alo, const Vec& ahi, const Vec& blo, const Vec& bhi) {
-      return (alo.array() > bhi.array() + margin).any() || (blo.array() > ahi.array() + margin).any();
-    };
-    const Vec slo = st.V[sf[0]].cwiseMin(st.V[sf[1]]).cwiseMin(st.V[sf[2]]);
-    const Vec shi = st.V[sf[0]].cwiseMax(st.V[sf[1]]).cwiseMax(st.V[sf[2]]);
-    Vec mlo, mhi;
-    ballBox({mf[0], mf[1], mf[2]}, mlo, mhi);
-    // Moving vertices against the static face's plane.
+    if (hi < a) {
+      ++stats.pairs_solved;
+      return;
+    }
+    MovingTriangle m;
+    m.face = static_cast<int>(f);
+    m.v = F[f];
     for (int k = 0; k < 3; ++k) {
-      Vec vlo, vhi;
-      ballBox({mf[k]}, vlo, vhi);
-      if (apart(vlo, vhi, slo, shi)) continue;
-      roots.clear();
-      ++stats.feature_solves;
-      d.fwd.pointPlane(d.W0[mf[k]], st.normal[g], st.offset[g], a, hi, roots);
-      for (const ContactRoot& r : roots) {
-        const Vec x = d.fwd.power(r.t).applyPoint(d.W0[mf[k]]);
-        Vec cp;
-        if (!onTriangle(x, st.V[sf[0]], st.V[sf[1]], st.V[sf[2]], tol, cp) && r.certain) continue;
-        Contact c = make(ContactType::VertexFace, r);
-        c.a = {mf[k], -1};
-        c.b = {static_cast<int>(g), -1};
-        c.point = cp;
-        c.normal = st.normal[g];
-        emit(c);
-      }
+      const auto v = static_cast<std::size_t>(F[f][k]);
+      m.W0[k] = d.W0[v];
+      m.mid[k] = mid[v];
+      m.rad[k] = rad[v];
     }
-    // Static vertices against the moving face (in the frame of the span start, on the inverse span).
-    const Vec n0 = (d.W0[mf[1]] - d.W0[mf[0]]).cross(d.W0[mf[2]] - d.W0[mf[0]]);
-    const double h0 = n0.dot(d.W0[mf[0]]);
-    for (int k = 0; k < 3; ++k) {
-      if (apart(st.V[sf[k]], st.V[sf[k]], mlo, mhi)) continue;
-      roots.clear();
-      ++stats.feature_solves;
-      d.inv.pointPlane(st.V[sf[k]], n0, h0, a, hi, roots);
-      for (const ContactRoot& r : roots) {
-        const Affine3 Pt = d.fwd.power(r.t);
-        const Vec X0 = Pt.applyPoint(d.W0[mf[0]]), X1 = Pt.applyPoint(d.W0[mf[1]]), X2 = Pt.applyPoint(d.W0[mf[2]]);
-        Vec cp;
-        if (!onTriangle(st.V[sf[k]], X0, X1, X2, tol, cp) && r.certain) continue;
-        Contact c = make(ContactType::FaceVertex, r);
-        c.a = {static_cast<int>(f), -1};
-        c.b = {sf[k], -1};
-        c.point = st.V[sf[k]];
-        c.normal = (X1 - X0).cross(X2 - X0).normalized();
-        emit(c);
-      }
-    }
-    // Edges against edges.
-    for (int i = 0; i < 3; ++i) {
-      const int ma = mf[i], mb = mf[(i + 1) % 3];
-      Vec elo, ehi;
-      ballBox({ma, mb}, elo, ehi);
-      for (int j = 0; j < 3; ++j) {
-        const int sa = sf[j], sb = sf[(j + 1) % 3];
-        if (apart(elo, ehi, st.V[sa].cwiseMin(st.V[sb]), st.V[sa].cwiseMax(st.V[sb]))) continue;
-        roots.clear();
-        ++stats.feature_solves;
-        d.fwd.edgeEdge(d.W0[ma], d.W0[mb], st.V[sa], st.V[sb], a, hi, roots);
-        for (const ContactRoot& r : roots) {
-          const Affine3 Pt = d.fwd.power(r.t);
-          const Vec x0 = Pt.applyPoint(d.W0[ma]), x1 = Pt.applyPoint(d.W0[mb]);
-          Vec cp, cq;
-          if (segmentDistance(x0, x1, st.V[sa], st.V[sb], cp, cq) > tol + 1e-13 * (x0.cwiseAbs().maxCoeff() + (x1 - x0).norm() + st.V[sa].cwiseAbs().maxCoeff() + (st.V[sb] - st.V[sa]).norm()) && r.certain)
-            continue;
-          Contact c = make(ContactType::EdgeEdge, r);
-          c.a = {std::min(ma, mb), std::max(ma, mb)};
-          c.b = {std::min(sa, sb), std::max(sa, sb)};
-          c.point = 0.5 * (cp + cq);
-          const Vec n = (x1 - x0).cross(st.V[sb] - st.V[sa]);
-          c.normal = n.norm() > 0 ? n.normalized() : Vec::Zero();
-          emit(c);
-        }
-      }
-    }
+    found.clear();
+    const PairSpan ps{span_index, d.t0, d.t1, &d.fwd, &d.inv};
+    solveTrianglePair(st, ps, m, g, a, hi, tol, tol + 1e-12 * (st.diag + body_diag), stats, found);
+    for (const Contact& c : found) emit(c);
   }
+  std::vector<Contact> found;  // scratch of solvePair
 
   enum class Mode { First, All, Any };
 

@@ -32,6 +32,15 @@ Vec closestOnTriangle(const Vec& p, const Vec& a, const Vec& b, const Vec& c);
 /// Closest points cp, cq of segments [p0, p1] and [q0, q1]; returns their distance.
 double segmentDistance(const Vec& p0, const Vec& p1, const Vec& q0, const Vec& q1, Vec& cp, Vec& cq);
 
+/// A node of the static scene's own box hierarchy (used by the prepared-mesh queries, which
+/// descend it together with the moving mesh's hierarchy). Boxes are the faces' boxes rounded
+/// outward to float; count > 0 marks a leaf holding faces tree_faces[first, first + count),
+/// otherwise the children are nodes first and first + 1.
+struct StaticNode {
+  float lo[3], hi[3];
+  unsigned first = 0, count = 0;
+};
+
 /// The static scene's data (StaticScene::Impl adds nothing: it only names it for the header).
 struct SceneData {
   std::vector<Vec> V;
@@ -43,6 +52,8 @@ struct SceneData {
   Vec lo, hi;  // bounding box
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
+  std::vector<StaticNode> tree;     // box hierarchy over the faces, root first
+  std::vector<unsigned> tree_faces;  // faces in leaf order
 
   SceneData() = default;
   SceneData(const SceneData&) = delete;
@@ -60,6 +71,40 @@ struct SceneData {
     storeBounds(args->bounds_o, lo, hi);
   }
 };
+
+/// Builds SceneData::tree (median splits along the longest axis of the face centroids, at most
+/// four faces per leaf).
+void buildStaticTree(SceneData& s);
+
+/// One moving triangle prepared for the exact solves of an interval of a span: its vertex indices
+/// and face index, its vertices at span time 0 (world), at the interval's middle, and a radius
+/// each vertex stays within over the interval (path length plus rounding).
+struct MovingTriangle {
+  std::array<int, 3> v{};
+  int face = 0;
+  std::array<Vec, 3> W0, mid;
+  std::array<double, 3> rad{};
+};
+
+/// The span a pair is solved on: its index and key times, and the root solvers of the span
+/// (moving features) and of its inverse (static vertices against moving faces).
+struct PairSpan {
+  std::size_t span_index;
+  double t0, t1;
+  const SpanRoots* fwd;
+  const SpanRoots* inv;
+};
+
+/// Solves moving triangle m against static face g over span time [a, hi] (inside the interval m
+/// was placed for) and appends every feature contact found to out. Features whose swept boxes
+/// stay farther apart than `margin` are skipped; `tol` is the contact distance.
+void solveTrianglePair(const SceneData& st, const PairSpan& ps, const MovingTriangle& m, std::size_t g, double a,
+                       double hi, double tol, double margin, CollideStats& stats, std::vector<Contact>& out);
+
+/// Sorts contact events by time and merges duplicates of one event.
+void mergeContactEvents(std::vector<Contact>& out);
+/// The span of the inverse relative affinity, with log exactly -log (see collide.cpp).
+Span3 inverseOf(const Span3& sp);
 
 struct PairHit {
   unsigned moving, fixed;  // moving primitive (slice-major), static face

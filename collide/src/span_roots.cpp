@@ -8,6 +8,9 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <atomic>
+#include <cstdint>
+#include <cstring>
 #include <cmath>
 #include <string>
 
@@ -17,6 +20,26 @@ namespace {
 
 constexpr int kCacheSteps = 128;  // cached powers at s = k / 128
 constexpr double kUlp = 0x1.0p-52;
+
+// Per-thread memo of the latest powers computed off the cache grid, keyed by the SpanRoots'
+// identity and the exact bits of s (direct-mapped, 64 slots). The root solves of one candidate
+// pair (and of the pairs of one interval) sample the same times again and again: the middle of
+// [s0, s1], its halves, ... A hit holds exactly what span_.power(s) computed for the same s, so
+// the memo changes no result; being per thread, it keeps the const members safe to call
+// concurrently. Identity 0 marks an empty slot.
+struct PowerMemo {
+  std::uint64_t id;
+  std::uint64_t bits;
+  double m[12];  // L column-major, then t
+  double lnorm, tnorm;
+};
+thread_local PowerMemo t_memo[64];
+
+std::uint64_t nextSpanRootsId() {
+  static std::atomic<std::uint64_t> counter{0};
+  return ++counter;
+}
+
 
 using detail::Bounds;
 using detail::kBoundSlack;
@@ -119,13 +142,18 @@ struct EdgeEdgeFn {
 
 }  // namespace
 
-SpanRoots::SpanRoots(const Span3& span, const RootOptions& options) : span_(span), options_(options) {
+SpanRoots::SpanRoots(const Span3& span, const RootOptions& options) : SpanRoots(span, options, true) {}
+
+SpanRoots::SpanRoots(const Span3& span, const RootOptions& options, bool cache_powers)
+    : span_(span), options_(options) {
   if (!(options_.time_tolerance > 0) || !(options_.value_ulps >= 1) || options_.max_intervals < 1)
     throw Error(ErrorCode::InvalidArgument,
                 "RootOptions: time_tolerance must be > 0, value_ulps >= 1, max_intervals >= 1");
+  id_ = nextSpanRootsId();
   M_ = span_.log().M;
   u_ = span_.log().u;
   mu_ = detail::spectralBound(M_);
+  if (!cache_powers) return;
   cache_.reserve(kCacheSteps + 1);
   for (int k = 0; k <= kCacheSteps; ++k) {
     const Affine3 P = span_.power(static_cast<double>(k) / kCacheSteps);
@@ -133,19 +161,39 @@ SpanRoots::SpanRoots(const Span3& span, const RootOptions& options) : span_(span
   }
 }
 
+
 void SpanRoots::power(double s, Affine3& P, double& lnorm, double& tnorm) const {
   const double k = s * kCacheSteps;
   // A cache hit holds exactly what span_.power(s) computes: a lookup, not a case.
-  if (k >= 0 && k <= kCacheSteps && k == std::floor(k)) {
+  if (!cache_.empty() && k >= 0 && k <= kCacheSteps && k == std::floor(k)) {
     const Cached& c = cache_[static_cast<std::size_t>(k)];
     P = c.P;
     lnorm = c.lnorm;
     tnorm = c.tnorm;
     return;
   }
+  std::uint64_t bits;
+  std::memcpy(&bits, &s, sizeof bits);
+  const std::uint64_t h = (bits ^ (bits >> 29) ^ (id_ * 0x9E3779B97F4A7C15ull)) * 0xBF58476D1CE4E5B9ull;
+  PowerMemo& slot = t_memo[h >> 58];
+  if (slot.id == id_ && slot.bits == bits) {
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r) P.linear()(r, c) = slot.m[3 * c + r];
+    P.translation() = Eigen::Vector3d(slot.m[9], slot.m[10], slot.m[11]);
+    lnorm = slot.lnorm;
+    tnorm = slot.tnorm;
+    return;
+  }
   P = span_.power(s);
   lnorm = P.linear().norm();
   tnorm = P.translation().norm();
+  slot.id = id_;
+  slot.bits = bits;
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) slot.m[3 * c + r] = P.linear()(r, c);
+  for (int r = 0; r < 3; ++r) slot.m[9 + r] = P.translation()[r];
+  slot.lnorm = lnorm;
+  slot.tnorm = tnorm;
 }
 
 Affine3 SpanRoots::power(double s) const {

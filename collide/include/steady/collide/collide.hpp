@@ -115,13 +115,64 @@ struct Clearance {
   std::size_t evaluations = 0;                         ///< exact distance evaluations used
 };
 
+/// A moving mesh prepared once for many contact queries against static scenes: the mesh is
+/// checked and a box hierarchy over its faces is built in body coordinates (median splits, one
+/// face per leaf). A query with a prepared mesh poses only the parts of the hierarchy that come
+/// near the scene, instead of every vertex and face of the mesh, so its cost follows the
+/// neighbourhood of the contact rather than the mesh size.
+///
+/// Method of those queries (StaticScene::firstContact(const PreparedMesh&, ...) and siblings).
+/// The static scene keeps a box hierarchy of its own besides the Embree BVH. The search runs
+/// through each span's time in order, halving intervals. Over span time [a, b] (middle m,
+/// r = (b - a) / 2) a body point at y at time m moves, along axis k, by at most
+/// r |v_k(y)| + r (phi1(r |M|) - 1) |v(y)| (v = M y + u the span's velocity field, phi1 as in
+/// span_roots.hpp; v(x(s)) = L^(s-m) v(y) and |L^t - 1| <= e^(|t| |M|) - 1); for a node of the
+/// hierarchy, posed at m, |v_k| and |v| are bounded from its centre plus |M| times its radius.
+/// A node's swept box is its posed box grown by these travels, by the contact distance, and by
+/// a rounding margin of 1e-13 of the magnitudes involved. Pairs of (moving node, static node)
+/// whose boxes are apart are dropped for the interval; the larger box of a pair is split; a
+/// node whose travel exceeds half its radius waits for the interval to be halved (with its
+/// static partners: a sub-interval's sweep lies inside the parent's bound). A triangle gathers the
+/// static faces that its swept box meets and that no separating axis parts from it (its middle
+/// triangle grown by the travel box, against the static triangle, over the 11 axes of two
+/// triangles), and is then halved in time alone, earliest piece first, while its travel exceeds
+/// a tenth of its radius, before the exact solves of the other queries run on the surviving
+/// pairs (thresholds in src/prepared.cpp; they change the work, not the answer).
+/// Intervals that start after the earliest contact found so far are never visited, so a
+/// first-contact query looks at the motion only up to the contact. The guarantee is the one of
+/// this header; CollideOptions::slices is checked but not used.
+/// Immutable after construction; queries with one prepared mesh may run concurrently.
+class PreparedMesh {
+ public:
+  /// Checks the mesh (vertices in body coordinates) and builds its hierarchy. Throws
+  /// Error(DegenerateInput) for an empty mesh or a zero-area triangle, Error(NonFinite) for a
+  /// non-finite vertex, Error(InvalidArgument) for a face index out of range.
+  PreparedMesh(std::vector<Eigen::Vector3d> vertices, std::vector<std::array<int, 3>> faces);
+  ~PreparedMesh();
+  PreparedMesh(const PreparedMesh&) = delete;
+  PreparedMesh& operator=(const PreparedMesh&) = delete;
+  PreparedMesh(PreparedMesh&&) noexcept;
+  PreparedMesh& operator=(PreparedMesh&&) noexcept;
+
+  /// The vertices (body coordinates).
+  const std::vector<Eigen::Vector3d>& vertices() const;
+  /// The faces.
+  const std::vector<std::array<int, 3>>& faces() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  friend class StaticScene;
+};
+
 /// A static triangle mesh in an Embree BVH, built once and queried by many motions. Queries
 /// are const and may run concurrently.
 class StaticScene {
  public:
-  /// Builds the BVH. Throws Error(DegenerateInput) for an empty mesh or a zero-area triangle,
-  /// Error(NonFinite) for a non-finite vertex, Error(InvalidArgument) for a face index out of
-  /// range; messages name the first offending element.
+  /// Builds the BVH, and a box hierarchy of its own for the prepared-mesh queries. Throws
+  /// Error(DegenerateInput) for an empty mesh or a zero-area triangle, Error(NonFinite) for a
+  /// non-finite vertex, Error(InvalidArgument) for a face index out of range; messages name
+  /// the first offending element.
   StaticScene(std::vector<Eigen::Vector3d> vertices, std::vector<std::array<int, 3>> faces);
   ~StaticScene();
   StaticScene(const StaticScene&) = delete;
@@ -144,6 +195,18 @@ class StaticScene {
   /// Whether the meshes touch at any time of the motion (stops at the first contact found).
   bool touches(const std::vector<Eigen::Vector3d>& vertices, const std::vector<std::array<int, 3>>& faces,
                const Motion3& motion, const CollideOptions& options = {}) const;
+
+  /// The same three queries for a prepared mesh (see PreparedMesh): the same answers and
+  /// guarantee, with a search that follows the motion through time and the two hierarchies in
+  /// depth, so that a query costs about what the neighbourhood of the contact costs.
+  /// Error(InvalidArgument) for bad options.
+  std::optional<Contact> firstContact(const PreparedMesh& mesh, const Motion3& motion, const CollideOptions& options = {},
+                                      CollideStats* stats = nullptr) const;
+  /// Every contact event of a prepared mesh over the motion, in time order (see contacts above).
+  std::vector<Contact> contacts(const PreparedMesh& mesh, const Motion3& motion, const CollideOptions& options = {},
+                                CollideStats* stats = nullptr) const;
+  /// Whether a prepared mesh touches the scene at any time of the motion.
+  bool touches(const PreparedMesh& mesh, const Motion3& motion, const CollideOptions& options = {}) const;
 
   /// The minimum distance between the mesh (posed by the motion) and the scene over the whole
   /// motion, as a bracket (see Clearance): exact distances at chosen times, and between them the

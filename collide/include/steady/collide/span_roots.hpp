@@ -29,6 +29,7 @@
 #include <Eigen/Core>
 
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -71,6 +72,10 @@ class SpanRoots {
   /// Precomputes the cache (129 evaluations of A^s). Throws Error(InvalidArgument) for bad
   /// options.
   explicit SpanRoots(const Span3& span, const RootOptions& options = {});
+  /// The same without the cache when `cache_powers` is false: for a query that solves only a
+  /// few dozen features on a span, the 129 powers cost more than they save. Answers are
+  /// identical either way (a cached power is exactly the computed one).
+  SpanRoots(const Span3& span, const RootOptions& options, bool cache_powers);
 
   /// Appends to `out`, in increasing order, every span time s in [s0, s1] at which the point at
   /// `x0` (world position at span time 0) is on the plane `m . x = h` (m need not be unit);
@@ -117,6 +122,7 @@ class SpanRoots {
   Eigen::Vector3d u_;
   double mu_ = 0.0;  // spectral norm of M (upper bound)
   std::vector<Cached> cache_;
+  std::uint64_t id_ = 0;  // identity for a per-thread memo of powers off the cache grid
 };
 
 }  // namespace steady

@@ -1,0 +1,615 @@
+// Contact queries of a prepared moving mesh (a body-space box hierarchy built once) against a
+// static scene (its own box hierarchy, next to the Embree BVH): a search through time in order,
+// descending both hierarchies, with the exact pair solves of collide.cpp at the bottom (see
+// PreparedMesh in collide.hpp).
+#include <steady/collide/collide.hpp>
+
+#include "internal.hpp"
+#include "isolate.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <unordered_map>
+#include <limits>
+#include <memory>
+#include <numeric>
+#include <optional>
+#include <string>
+#include <utility>
+
+namespace steady {
+
+using namespace detail;
+
+// ---- the static scene's box hierarchy ----------------------------------------------------------
+
+namespace detail {
+
+namespace {
+
+struct StaticBuilder {
+  SceneData& s;
+  std::vector<float> lo, hi, centre;  // per face, 3 each: box (rounded outward) and its centre
+
+  void build(std::size_t node, unsigned begin, unsigned end) {
+    float blo[3] = {std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity(),
+                    std::numeric_limits<float>::infinity()};
+    float bhi[3] = {-blo[0], -blo[1], -blo[2]};
+    float clo[3] = {blo[0], blo[1], blo[2]}, chi[3] = {bhi[0], bhi[1], bhi[2]};
+    for (unsigned i = begin; i < end; ++i) {
+      const std::size_t f = s.tree_faces[i];
+      for (int k = 0; k < 3; ++k) {
+        blo[k] = std::min(blo[k], lo[3 * f + k]);
+        bhi[k] = std::max(bhi[k], hi[3 * f + k]);
+        clo[k] = std::min(clo[k], centre[3 * f + k]);
+        chi[k] = std::max(chi[k], centre[3 * f + k]);
+      }
+    }
+    StaticNode& n = s.tree[node];
+    std::copy(blo, blo + 3, n.lo);
+    std::copy(bhi, bhi + 3, n.hi);
+    if (end - begin <= 4) {
+      n.first = begin;
+      n.count = end - begin;
+      return;
+    }
+    int axis = 0;
+    for (int k = 1; k < 3; ++k)
+      if (chi[k] - clo[k] > chi[axis] - clo[axis]) axis = k;
+    const unsigned mid = begin + (end - begin) / 2;
+    std::nth_element(s.tree_faces.begin() + begin, s.tree_faces.begin() + mid, s.tree_faces.begin() + end,
+                     [&](unsigned x, unsigned y) { return centre[3 * x + axis] < centre[3 * y + axis]; });
+    const auto left = static_cast<unsigned>(s.tree.size());
+    s.tree[node].first = left;  // (n may dangle after the resize below)
+    s.tree[node].count = 0;
+    s.tree.resize(s.tree.size() + 2);
+    build(left, begin, mid);
+    build(left + 1, mid, end);
+  }
+};
+
+}  // namespace
+
+void buildStaticTree(SceneData& s) {
+  const std::size_t nf = s.F.size();
+  StaticBuilder b{s, {}, {}, {}};
+  b.lo.resize(3 * nf);
+  b.hi.resize(3 * nf);
+  b.centre.resize(3 * nf);
+  for (std::size_t f = 0; f < nf; ++f) {
+    const Vec& p = s.V[s.F[f][0]];
+    const Vec& q = s.V[s.F[f][1]];
+    const Vec& r = s.V[s.F[f][2]];
+    RTCBounds bb;
+    storeBounds(&bb, p.cwiseMin(q).cwiseMin(r), p.cwiseMax(q).cwiseMax(r));
+    const float l[3] = {bb.lower_x, bb.lower_y, bb.lower_z}, h[3] = {bb.upper_x, bb.upper_y, bb.upper_z};
+    for (int k = 0; k < 3; ++k) {
+      b.lo[3 * f + k] = l[k];
+      b.hi[3 * f + k] = h[k];
+      b.centre[3 * f + k] = 0.5f * (l[k] + h[k]);
+    }
+  }
+  s.tree_faces.resize(nf);
+  std::iota(s.tree_faces.begin(), s.tree_faces.end(), 0u);
+  s.tree.clear();
+  s.tree.reserve(nf);  // about nf / 2 nodes for leaves of 2 to 4 faces
+  s.tree.emplace_back();
+  b.build(0, 0, static_cast<unsigned>(nf));
+}
+
+}  // namespace detail
+
+// ---- the prepared mesh ---------------------------------------------------------------------------
+
+namespace detail {
+// A node of the moving mesh's hierarchy, in body coordinates: a box (centre c, half extents h,
+// which contain the faces' vertices up to rounding: the search adds a relative margin), the
+// children left and left + 1 (left < 0 for a leaf) and, for a leaf, its face.
+struct BodyNode {
+  Vec c, h;
+  double hn = 0;  // |h|
+  int left = -1;
+  int face = -1;
+};
+
+// The prepared mesh's data (PreparedMesh::Impl adds nothing: it only names it for the header).
+struct BodyTree {
+  std::vector<Vec> V;
+  Faces F;
+  std::vector<BodyNode> nodes;  // root first
+  double diag = 0;
+  double mean_extent = 0;
+  double vmax = 0;  // largest |vertex| (body coordinates)
+
+  void build(std::size_t node, std::vector<unsigned>& order, const std::vector<Vec>& centre, std::size_t begin,
+             std::size_t end) {
+    Vec lo = Vec::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    Vec clo = lo, chi = hi;
+    for (std::size_t i = begin; i < end; ++i) {
+      const auto& f = F[order[i]];
+      for (int k = 0; k < 3; ++k) {
+        lo = lo.cwiseMin(V[f[k]]);
+        hi = hi.cwiseMax(V[f[k]]);
+      }
+      clo = clo.cwiseMin(centre[order[i]]);
+      chi = chi.cwiseMax(centre[order[i]]);
+    }
+    nodes[node].c = 0.5 * (lo + hi);
+    nodes[node].h = (hi - nodes[node].c).cwiseMax(nodes[node].c - lo);
+    nodes[node].hn = nodes[node].h.norm();
+    if (end - begin == 1) {
+      nodes[node].face = static_cast<int>(order[begin]);
+      return;
+    }
+    int axis = 0;
+    (chi - clo).maxCoeff(&axis);
+    const std::size_t mid = begin + (end - begin) / 2;
+    std::nth_element(order.begin() + static_cast<std::ptrdiff_t>(begin), order.begin() + static_cast<std::ptrdiff_t>(mid),
+                     order.begin() + static_cast<std::ptrdiff_t>(end),
+                     [&](unsigned x, unsigned y) { return centre[x][axis] < centre[y][axis]; });
+    const auto left = static_cast<int>(nodes.size());
+    nodes[node].left = left;
+    nodes.resize(nodes.size() + 2);
+    build(static_cast<std::size_t>(left), order, centre, begin, mid);
+    build(static_cast<std::size_t>(left) + 1, order, centre, mid, end);
+  }
+};
+}  // namespace detail
+
+struct PreparedMesh::Impl : detail::BodyTree {};
+
+PreparedMesh::PreparedMesh(std::vector<Vec> vertices, Faces faces) : impl_(std::make_unique<Impl>()) {
+  checkMesh(vertices, faces, "the moving");
+  Impl& m = *impl_;
+  m.V = std::move(vertices);
+  m.F = std::move(faces);
+  m.diag = boxDiagonal(m.V);
+  m.mean_extent = meanFaceExtent(m.V, m.F);
+  for (const Vec& p : m.V) m.vmax = std::max(m.vmax, p.norm());
+  std::vector<Vec> centre(m.F.size());
+  for (std::size_t f = 0; f < m.F.size(); ++f) centre[f] = (m.V[m.F[f][0]] + m.V[m.F[f][1]] + m.V[m.F[f][2]]) / 3.0;
+  std::vector<unsigned> order(m.F.size());
+  std::iota(order.begin(), order.end(), 0u);
+  m.nodes.reserve(2 * m.F.size());
+  m.nodes.emplace_back();
+  m.build(0, order, centre, 0, m.F.size());
+}
+
+PreparedMesh::~PreparedMesh() = default;
+PreparedMesh::PreparedMesh(PreparedMesh&&) noexcept = default;
+PreparedMesh& PreparedMesh::operator=(PreparedMesh&&) noexcept = default;
+const std::vector<Vec>& PreparedMesh::vertices() const { return impl_->V; }
+const Faces& PreparedMesh::faces() const { return impl_->F; }
+
+// ---- the search ------------------------------------------------------------------------------------
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+enum class Mode { First, All, Any };
+
+class TreeQuery {
+ public:
+  TreeQuery(const SceneData& st, const BodyTree& body, const Motion3& motion, const CollideOptions& o,
+            Mode mode)
+      : st_(st), body_(body), o_(o), mode_(mode) {
+    if (o.slices < 1 || o.slices > 128)
+      throw Error(ErrorCode::InvalidArgument, "CollideOptions::slices must be in 1..128, got " + std::to_string(o.slices));
+    if (!(o.contact_tolerance >= 0) || !std::isfinite(o.contact_tolerance))
+      throw Error(ErrorCode::InvalidArgument, "CollideOptions::contact_tolerance must be finite and >= 0");
+    if (!(o.roots.time_tolerance > 0) || !(o.roots.value_ulps >= 1) || o.roots.max_intervals < 1)
+      throw Error(ErrorCode::InvalidArgument,
+                  "RootOptions: time_tolerance must be > 0, value_ulps >= 1, max_intervals >= 1");
+    tol_ = o.contact_tolerance * std::max(st.diag, body.diag);
+    margin_ = tol_ + 1e-12 * (st.diag + body.diag);
+    feature_ = std::max(st.mean_extent, body.mean_extent);
+    spans_.resize(motion.spanCount());
+    for (std::size_t i = 0; i < spans_.size(); ++i) {
+      SpanCtx& sc = spans_[i];
+      sc.span = &motion.span(i);
+      sc.t0 = motion.spanBegin(i);
+      sc.t1 = motion.spanEnd(i);
+      sc.M = sc.span->log().M;
+      sc.u = sc.span->log().u;
+      sc.mu = spectralBound(sc.M);
+      sc.row = sc.M.rowwise().norm() * (1 + 1e-12);
+    }
+  }
+
+  std::vector<Contact> run() {
+    const auto start = Clock::now();
+    std::vector<Entry> front{{0, 0, 1}};
+    std::vector<unsigned> pool{0};
+    for (std::size_t i = 0; i < spans_.size() && !done_; ++i) interval(i, 0.0, 1.0, 0, front, pool);
+    std::vector<Contact> out;
+    if (mode_ == Mode::All) {
+      out = std::move(all_);
+      mergeContactEvents(out);
+    } else if (best_) {
+      out.push_back(*best_);
+    }
+    stats.broad_seconds = std::chrono::duration<double>(Clock::now() - start).count() - stats.narrow_seconds;
+    return out;
+  }
+
+  CollideStats stats;
+
+ private:
+  struct SpanCtx {
+    const Span3* span = nullptr;
+    double t0 = 0, t1 = 1;
+    Eigen::Matrix3d M;
+    Vec u;
+    double mu = 0;
+    Vec row;  // |M_k|: norms of the rows of M (rounded up)
+    std::unique_ptr<SpanRoots> fwd, inv;  // built on the span's first exact solve
+    std::unordered_map<std::uint64_t, Affine3> powers;  // A^m by the bits of m (middles of intervals)
+  };
+  // The middle pose of span time [a, b]: A^m (Pm), the body-to-world pose (P = A^m start), |L| of
+  // P entrywise, magnitudes for the rounding margin, and the factor that turns a speed at the
+  // middle into a travel bound over the interval.
+  struct Frame {
+    Affine3 Pm, P;
+    Eigen::Matrix3d Labs;
+    double lnorm, tnorm, grow;
+    double lscale;  // |L|_F / sqrt 3: the scale of P (exact for motions and uniform scalings)
+    // Rounding margin of any vertex placed in this frame: kRound times bounds of |x| at the
+    // middle and at span time 0 (from the largest body vertex).
+    double round;
+    double mag;  // a bound of the coordinates met in the separating-axis tests
+    // Travel along axis k of a point at y (world, middle) over the interval: at most
+    // r |v_k(y)| + rx |v(y)|. Along the path v(x(s)) = L^(s-m) v(y), and
+    // |e_k . (L^t - 1) v| <= (e^(|t| |M|) - 1) |v|, whose integral over |t| <= r is
+    // r (phi1(r |M|) - 1) = r (r |M|) phi2(r |M|) = rx. (grow = r phi1(r |M|) bounds the whole
+    // displacement.)
+    double r, rx;
+  };
+  // A moving node (index into body_.nodes) paired with static tree nodes pool[begin, end).
+  struct Entry {
+    unsigned node, begin, end;
+  };
+  // A conservative world box of what a moving node sweeps over an interval, with its size (the
+  // largest side), its travel bound and its own radius.
+  struct Swept {
+    Vec lo, hi;
+    Vec pad;  // per axis: how far any of its points travels along the axis (plus rounding)
+    double size, path, rho;  // path = largest pad
+    double mag = 0;  // (triangles) the frame's coordinate bound, for rounding margins
+  };
+
+  // Halving stops at this depth (2^-24 of a span).
+  static constexpr int kMaxDepth = 24;
+  // Rules of the search (measured on the benchmark scenes; any values keep the guarantee). An
+  // inner moving node whose travel over an interval exceeds kNodeWait of its radius waits for
+  // the interval to be halved, otherwise its children are tried; a triangle waits while its
+  // travel exceeds kLeafWait of max(its radius, kLeafFloor typical triangle sizes), otherwise
+  // its static candidates are gathered and it is refined alone (see local) until its travel is
+  // at most kLocal of max(its radius, kLocalFloor typical triangle sizes), then solved.
+  static constexpr double kNodeWait = 0.5;
+  static constexpr double kLeafWait = 0.2;
+  static constexpr double kLeafFloor = 0.5;
+  static constexpr double kLocal = 0.1;
+  static constexpr double kLocalFloor = 0.05;
+  // Relative rounding margin of the posed boxes (positions, velocities and their norms are a few
+  // dozen flops of the magnitudes |x|, |L| |c|, |t|, each rounded by 2^-53).
+  static constexpr double kRound = 1e-13;
+
+  Frame frame(SpanCtx& sc, double a, double b) {
+    Frame f;
+    const double r = 0.5 * (b - a);
+    const double m = 0.5 * (a + b);
+    std::uint64_t key;
+    std::memcpy(&key, &m, sizeof key);
+    auto it = sc.powers.find(key);
+    if (it == sc.powers.end()) it = sc.powers.emplace(key, sc.span->power(m)).first;
+    f.Pm = it->second;
+    f.P = f.Pm * sc.span->start();
+    f.Labs = f.P.linear().cwiseAbs();
+    f.lnorm = f.P.linear().norm();
+    f.tnorm = f.P.translation().norm();
+    f.lscale = f.lnorm / std::sqrt(3.0);
+    const Affine3& B = sc.span->start();
+    const double xmid = f.tnorm + f.lnorm * body_.vmax;
+    const double x0 = B.translation().norm() + B.linear().norm() * body_.vmax;
+    f.round = kRound * (xmid + x0 + f.Pm.translation().norm() + f.Pm.linear().norm() * x0);
+    f.mag = std::max(xmid, st_.lo.cwiseAbs().cwiseMax(st_.hi.cwiseAbs()).maxCoeff());
+    f.grow = r * phi1(r * sc.mu) * kBoundSlack * (1 + 1e-12);
+    f.r = r * kBoundSlack * (1 + 1e-12);
+    f.rx = r * (r * sc.mu) * phi2(r * sc.mu) * kBoundSlack * (1 + 1e-12);
+    return f;
+  }
+
+  // Swept box of an inner node: its body box posed at the middle is a parallelepiped inside the
+  // world box cw +- |L| h, whose points y lie within rho = ||L| h| of cw. Since
+  // v(y) - v(cw) = M (y - cw), |v_k(y)| <= |v_k(cw)| + |M_k| rho (M_k the k-th row) and
+  // |v(y)| <= |v(cw)| + |M| rho; the travel bound of Frame applies to each axis.
+  Swept nodeBox(const SpanCtx& sc, const Frame& f, const BodyNode& n) const {
+    const Vec cw = f.P.applyPoint(n.c);
+    const Vec ext = f.Labs * n.h;
+    const Vec vc = sc.M * cw + sc.u;
+    Swept s;
+    s.rho = ext.norm();
+    const double round = margin_ + kRound * (cw.norm() + f.lnorm * (n.c.norm() + n.h.norm()) + f.tnorm + s.rho);
+    s.pad = f.r * (vc.cwiseAbs() + sc.row * s.rho) + Vec::Constant((vc.norm() + sc.mu * s.rho) * f.rx + round);
+    s.path = s.pad.maxCoeff();
+    s.lo = cw - ext - s.pad;
+    s.hi = cw + ext + s.pad;
+    s.size = (s.hi - s.lo).maxCoeff();
+    return s;
+  }
+
+  // A leaf's triangle placed as the exact solves need it (vertices at the middle, each with its
+  // travel bound plus rounding; the vertices at span time 0 are filled in by solve), and its
+  // swept box.
+  Swept triangleBox(const SpanCtx& sc, const Frame& f, unsigned node, MovingTriangle& t) const {
+    const int face = body_.nodes[node].face;
+    t.face = face;
+    t.v = body_.F[static_cast<std::size_t>(face)];
+    Swept s;
+    s.lo = Vec::Constant(std::numeric_limits<double>::infinity());
+    s.hi = -s.lo;
+    s.pad = Vec::Zero();
+    for (int k = 0; k < 3; ++k) {
+      t.mid[k] = f.P.applyPoint(body_.V[static_cast<std::size_t>(t.v[k])]);
+      const Vec v = sc.M * t.mid[k] + sc.u;
+      const double vn = v.norm(), round = f.round;
+      t.rad[k] = vn * f.grow + round;
+      // (each axis also within the whole displacement bound rad)
+      const Vec pad = (f.r * v.cwiseAbs() + Vec::Constant(vn * f.rx + round)).cwiseMin(t.rad[k]);
+      s.lo = s.lo.cwiseMin(t.mid[k] - pad);
+      s.hi = s.hi.cwiseMax(t.mid[k] + pad);
+      s.pad = s.pad.cwiseMax(pad);
+    }
+    s.path = s.pad.maxCoeff();
+    s.lo -= Vec::Constant(margin_);
+    s.hi += Vec::Constant(margin_);
+    s.rho = body_.nodes[node].hn * f.lscale;
+    s.mag = f.mag;
+    s.size = (s.hi - s.lo).maxCoeff();
+    return s;
+  }
+
+  static bool overlaps(const StaticNode& n, const Swept& s) {
+    return n.lo[0] <= s.hi.x() && n.lo[1] <= s.hi.y() && n.lo[2] <= s.hi.z() && s.lo.x() <= n.hi[0] &&
+           s.lo.y() <= n.hi[1] && s.lo.z() <= n.hi[2];
+  }
+
+  // Appends to pool the static nodes under pool[begin, end) whose boxes meet s: leaves, or nodes
+  // no larger than s (all the way to leaves when to_leaves).
+  void filterStatic(const Swept& s, unsigned begin, unsigned end, bool to_leaves, std::vector<unsigned>& pool) {
+    for (unsigned i = begin; i < end; ++i) {
+      stack_.push_back(pool[i]);
+      while (!stack_.empty()) {
+        const unsigned id = stack_.back();
+        stack_.pop_back();
+        const StaticNode& n = st_.tree[id];
+        if (!overlaps(n, s)) continue;
+        const double size = std::max({static_cast<double>(n.hi[0]) - n.lo[0], static_cast<double>(n.hi[1]) - n.lo[1],
+                                      static_cast<double>(n.hi[2]) - n.lo[2]});
+        if (n.count > 0 || (!to_leaves && size <= s.size)) {
+          pool.push_back(id);
+        } else {
+          stack_.push_back(n.first);
+          stack_.push_back(n.first + 1);
+        }
+      }
+    }
+  }
+
+  // Whether moving triangle t (placed on the current interval, swept box s) stays apart from
+  // static face g over the whole interval, by a separating axis. Each vertex stays within the
+  // box mid +- s.pad of its middle position, and each point of the triangle is a convex
+  // combination of its vertices, so over the interval the triangle stays inside its middle
+  // triangle plus the box [-pad, pad]: along an axis n its projection stays within
+  // [min n.mid - |n|.pad, max n.mid + |n|.pad] (|n| entrywise). The axes are the two normals
+  // and the nine edge cross products (the separating axes of two triangles); an axis whose
+  // projections are apart by more than that, the contact distance and a rounding margin
+  // separates them. Axes of (nearly) parallel edges are skipped: no decision, no harm.
+  bool separated(const MovingTriangle& t, const Swept& s, unsigned g) const {
+    const auto& gf = st_.F[g];
+    const Vec* q[3] = {&st_.V[gf[0]], &st_.V[gf[1]], &st_.V[gf[2]]};
+    // Contact distance and rounding of the dot products (~1e-15 of |n| times the coordinates),
+    // times |n|_1 >= |n|.
+    const double extra = margin_ + 1e-12 * (s.mag + s.path);
+    auto apart = [&](const Vec& n) {
+      const Vec na = n.cwiseAbs();
+      const double grow = na.dot(s.pad) + extra * (na.x() + na.y() + na.z());
+      const double a0 = n.dot(t.mid[0]), a1 = n.dot(t.mid[1]), a2 = n.dot(t.mid[2]);
+      const double b0 = n.dot(*q[0]), b1 = n.dot(*q[1]), b2 = n.dot(*q[2]);
+      const double amin = std::min({a0, a1, a2}) - grow, amax = std::max({a0, a1, a2}) + grow;
+      const double bmin = std::min({b0, b1, b2}), bmax = std::max({b0, b1, b2});
+      return amin > bmax || bmin > amax;
+    };
+    const Vec ea[3] = {t.mid[1] - t.mid[0], t.mid[2] - t.mid[1], t.mid[0] - t.mid[2]};
+    const Vec eb[3] = {*q[1] - *q[0], *q[2] - *q[1], *q[0] - *q[2]};
+    if (apart(st_.normal[g]) || apart(ea[0].cross(ea[1]))) return true;
+    for (const Vec& x : ea)
+      for (const Vec& y : eb) {
+        const Vec n = x.cross(y);
+        if (n.squaredNorm() > 1e-20 * x.squaredNorm() * y.squaredNorm() && apart(n)) return true;
+      }
+    return false;
+  }
+
+  double globalTime(const SpanCtx& sc, double s) const { return sc.t0 + s * (sc.t1 - sc.t0); }
+
+  // Span time [a, b] of span i, with the moving nodes still paired with static nodes (front).
+  void interval(std::size_t i, double a, double b, int depth, const std::vector<Entry>& front,
+                std::vector<unsigned> pool) {
+    SpanCtx& sc = spans_[i];
+    if (done_) return;
+    if (mode_ != Mode::All && best_ && globalTime(sc, a) > best_->t) {
+      done_ = true;  // every later interval starts later still
+      return;
+    }
+    const Frame f = frame(sc, a, b);
+    std::vector<Entry> work(front.rbegin(), front.rend());  // popped from the back: in front order
+    std::vector<Entry> wait;
+    std::vector<LocalItem> reached;
+    std::vector<unsigned> wait_pool;
+    const bool can_halve = depth < kMaxDepth;
+    while (!work.empty()) {
+      const Entry e = work.back();
+      work.pop_back();
+      const BodyNode& n = body_.nodes[e.node];
+      MovingTriangle t;
+      const bool leaf = n.left < 0;
+      const Swept s = leaf ? triangleBox(sc, f, e.node, t) : nodeBox(sc, f, n);
+      const bool halve =
+          can_halve && s.path > (leaf ? kLeafWait * std::max(s.rho, kLeafFloor * feature_) : kNodeWait * s.rho);
+      const auto mark = static_cast<unsigned>(pool.size());
+      filterStatic(s, e.begin, e.end, leaf && !halve, pool);
+      const auto stop = static_cast<unsigned>(pool.size());
+      if (stop == mark) continue;
+      if (halve) {
+        const auto wb = static_cast<unsigned>(wait_pool.size());
+        wait_pool.insert(wait_pool.end(), pool.begin() + mark, pool.end());
+        wait.push_back({e.node, wb, static_cast<unsigned>(wait_pool.size())});
+      } else if (!leaf) {
+        work.push_back({static_cast<unsigned>(n.left) + 1, mark, stop});
+        work.push_back({static_cast<unsigned>(n.left), mark, stop});
+      } else {
+        std::vector<unsigned> faces;
+        for (unsigned k = mark; k < stop; ++k) {
+          const StaticNode& sn = st_.tree[pool[k]];
+          for (unsigned j = sn.first; j < sn.first + sn.count; ++j)
+            if (candidate(t, s, st_.tree_faces[j])) faces.push_back(st_.tree_faces[j]);
+        }
+        if (!faces.empty()) reached.push_back({a, b, depth, e.node, t, s, std::move(faces)});
+      }
+      if (halve || leaf) pool.resize(mark);  // (children of an inner node keep [mark, stop))
+    }
+    local(i, reached);
+    if (wait.empty() || done_) return;
+    const double m = 0.5 * (a + b);
+    interval(i, a, m, depth + 1, wait, wait_pool);
+    interval(i, m, b, depth + 1, wait, std::move(wait_pool));
+  }
+
+  // Whether static face g may meet moving triangle t (placed on the current interval, swept box
+  // s): the boxes meet and no separating axis parts them.
+  bool candidate(const MovingTriangle& t, const Swept& s, unsigned g) const {
+    const auto& gf = st_.F[g];
+    const Vec glo = st_.V[gf[0]].cwiseMin(st_.V[gf[1]]).cwiseMin(st_.V[gf[2]]);
+    const Vec ghi = st_.V[gf[0]].cwiseMax(st_.V[gf[1]]).cwiseMax(st_.V[gf[2]]);
+    if ((glo.array() > s.hi.array()).any() || (s.lo.array() > ghi.array()).any()) return false;
+    return !separated(t, s, g);
+  }
+
+  // A moving triangle placed on span time [a, b] (swept box s) with the static faces that may
+  // meet it there.
+  struct LocalItem {
+    double a, b;
+    int depth;
+    unsigned node;
+    MovingTriangle t;
+    Swept s;
+    std::vector<unsigned> faces;
+  };
+
+  // The triangles an interval reached, earliest sub-interval first (a heap on a): each is halved
+  // in time, for itself alone, while its travel exceeds kLocal of its radius (a halving costs a
+  // placement and a separating-axis test per face, against about a microsecond per exact pair
+  // solve), then solved exactly. In a first-contact query, the sub-intervals that start after
+  // the earliest contact found are never refined nor solved.
+  void local(std::size_t i, std::vector<LocalItem>& heap) {
+    SpanCtx& sc = spans_[i];
+    auto later = [](const LocalItem& x, const LocalItem& y) { return x.a > y.a; };
+    std::make_heap(heap.begin(), heap.end(), later);
+    while (!heap.empty() && !done_) {
+      std::pop_heap(heap.begin(), heap.end(), later);
+      LocalItem it = std::move(heap.back());
+      heap.pop_back();
+      if (mode_ != Mode::All && best_ && globalTime(sc, it.a) > best_->t) break;  // the rest start later
+      if (it.depth >= kMaxDepth || it.s.path <= kLocal * std::max(it.s.rho, kLocalFloor * feature_)) {
+        stats.candidate_pairs += it.faces.size();
+        solve(i, it.a, it.b, it.t, it.faces);
+        continue;
+      }
+      const double m = 0.5 * (it.a + it.b);
+      for (int half = 0; half < 2; ++half) {
+        LocalItem h;
+        h.a = half ? m : it.a;
+        h.b = half ? it.b : m;
+        h.depth = it.depth + 1;
+        h.node = it.node;
+        const Frame f = frame(sc, h.a, h.b);
+        h.s = triangleBox(sc, f, it.node, h.t);
+        for (const unsigned g : it.faces)
+          if (candidate(h.t, h.s, g)) h.faces.push_back(g);
+        if (h.faces.empty()) continue;
+        heap.push_back(std::move(h));
+        std::push_heap(heap.begin(), heap.end(), later);
+      }
+    }
+    heap.clear();
+  }
+
+  void solve(std::size_t i, double a, double b, const MovingTriangle& placed, const std::vector<unsigned>& faces) {
+    const auto start = Clock::now();
+    SpanCtx& sc = spans_[i];
+    if (!sc.fwd) {
+      sc.fwd = std::make_unique<SpanRoots>(*sc.span, o_.roots, false);
+      sc.inv = std::make_unique<SpanRoots>(inverseOf(*sc.span), o_.roots, false);
+    }
+    const PairSpan ps{i, sc.t0, sc.t1, sc.fwd.get(), sc.inv.get()};
+    MovingTriangle t = placed;
+    for (int k = 0; k < 3; ++k) t.W0[k] = sc.span->start().applyPoint(body_.V[static_cast<std::size_t>(t.v[k])]);
+    for (const unsigned g : faces) {
+      const double hi = mode_ != Mode::All && best_ && best_->span == i ? std::min(b, best_->span_time) : b;
+      if (hi < a) continue;
+      found_.clear();
+      solveTrianglePair(st_, ps, t, g, a, hi, tol_, margin_, stats, found_);
+      for (const Contact& c : found_) {
+        if (mode_ == Mode::All) all_.push_back(c);
+        else if (!best_ || c.t < best_->t) best_ = c;
+      }
+      if (mode_ == Mode::Any && best_) {
+        done_ = true;
+        break;
+      }
+    }
+    stats.narrow_seconds += std::chrono::duration<double>(Clock::now() - start).count();
+  }
+
+  const SceneData& st_;
+  const BodyTree& body_;
+  const CollideOptions& o_;
+  Mode mode_;
+  double tol_ = 0, margin_ = 0, feature_ = 0;
+  std::vector<SpanCtx> spans_;
+  std::optional<Contact> best_;
+  std::vector<Contact> all_, found_;
+  std::vector<unsigned> stack_;
+  bool done_ = false;
+};
+
+}  // namespace
+
+std::optional<Contact> StaticScene::firstContact(const PreparedMesh& mesh, const Motion3& motion,
+                                                 const CollideOptions& options, CollideStats* stats) const {
+  TreeQuery q(*impl_, *mesh.impl_, motion, options, Mode::First);
+  std::vector<Contact> c = q.run();
+  if (stats) *stats = q.stats;
+  if (c.empty()) return std::nullopt;
+  return c.front();
+}
+
+std::vector<Contact> StaticScene::contacts(const PreparedMesh& mesh, const Motion3& motion,
+                                           const CollideOptions& options, CollideStats* stats) const {
+  TreeQuery q(*impl_, *mesh.impl_, motion, options, Mode::All);
+  std::vector<Contact> c = q.run();
+  if (stats) *stats = q.stats;
+  return c;
+}
+
+bool StaticScene::touches(const PreparedMesh& mesh, const Motion3& motion, const CollideOptions& options) const {
+  TreeQuery q(*impl_, *mesh.impl_, motion, options, Mode::Any);
+  return !q.run().empty();
+}
+
+}  // namespace steady

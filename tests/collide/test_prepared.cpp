@@ -1,0 +1,232 @@
+// Queries of a PreparedMesh (the moving mesh's hierarchy built once, searched through time with
+// the static scene's own hierarchy): closed-form screw contacts, agreement with the plain
+// (unprepared) queries on seeded random scenes and on fine meshes over long motions, the
+// independent sampling oracle, reuse across queries, and bad input.
+#include <steady/collide/collide.hpp>
+#include <steady/core/error.hpp>
+
+#include "support/meshes.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <vector>
+
+namespace {
+
+using steady::Affine3;
+using steady::Contact;
+using steady::Motion3;
+using steady::PreparedMesh;
+using steady::StaticScene;
+using steady_test::box;
+using steady_test::grid;
+using steady_test::Mesh;
+using steady_test::octahedron;
+using steady_test::uvSphere;
+using steady_test::V;
+
+// A cube turning about a vertical axis while sinking onto a slab: its bottom face stays
+// horizontal, so it touches the slab's top (z = 0) exactly when its centre has sunk by the
+// half side: with the centre at height z0 - d t, at t = (z0 - 0.5) / d, whatever the axis.
+TEST(CollidePrepared, ScrewOntoASlabHasTheClosedFormTime) {
+  const Mesh slab = box(V(-10, -10, -2), V(10, 10, 0));
+  const StaticScene scene(slab.v, slab.f);
+  const Mesh cube = box(V(-0.5, -0.5, -0.5), V(0.5, 0.5, 0.5));
+  const PreparedMesh prepared(cube.v, cube.f);
+  for (const V& axis_point : {V(0, 0, 0), V(0.3, -0.2, 0), V(1.5, 0.7, 0)})
+    for (const double turn : {0.5, 2.0, M_PI * (1 - 1e-9)}) {
+      const double z0 = 2.0, d = 3.0;
+      const Affine3 B = Affine3::translation(V(0, 0, z0));
+      // Rotation about the vertical line through axis_point, then the descent along it.
+      const Affine3 R = Affine3::translation(axis_point) * Affine3::rotation(V(0, 0, 1), turn) *
+                        Affine3::translation(-axis_point);
+      const Affine3 C = Affine3::translation(V(0, 0, -d)) * R * B;
+      const Motion3 motion = Motion3::polySam(std::vector<Affine3>{B, C});
+      const double exact = (z0 - 0.5) / d;
+      steady::CollideStats stats;
+      const auto c = scene.firstContact(prepared, motion, {}, &stats);
+      ASSERT_TRUE(c.has_value()) << "turn " << turn;
+      EXPECT_NEAR(c->t, exact, 1e-10) << "turn " << turn;
+      EXPECT_LE(c->t, exact + 1e-12) << "turn " << turn;  // never late
+      EXPECT_NEAR(c->point.z(), 0.0, 1e-9);
+      EXPECT_TRUE(c->certain);
+      EXPECT_GT(stats.pairs_solved, 0u);
+      EXPECT_TRUE(scene.touches(prepared, motion));
+      const auto plain = scene.firstContact(cube.v, cube.f, motion);
+      ASSERT_TRUE(plain.has_value());
+      EXPECT_NEAR(plain->t, c->t, 1e-12);
+    }
+}
+
+// A screw about a vertical axis keeps every vertex's height linear in time: a ball that ends
+// 1e-7 above the slab never touches it; one that ends 1e-7 below does, just before the end.
+TEST(CollidePrepared, NearMissAndNearHit) {
+  const Mesh slab = box(V(-10, -10, -2), V(10, 10, 0));
+  const StaticScene scene(slab.v, slab.f);
+  const Mesh ball = uvSphere(12, 24, 0.5);
+  const PreparedMesh prepared(ball.v, ball.f);
+  double lowest = 1;
+  for (const V& p : ball.v) lowest = std::min(lowest, p.z());
+  for (const double end : {1e-7, -1e-7}) {
+    const Affine3 B = Affine3::translation(V(0, 0, 1));
+    const Affine3 C = Affine3::translation(V(0.4, 0.1, end - lowest)) * Affine3::rotation(V(0, 0, 1), 2.5);
+    const Motion3 motion = Motion3::polySam(std::vector<Affine3>{B, C});
+    const auto c = scene.firstContact(prepared, motion);
+    const auto plain = scene.firstContact(ball.v, ball.f, motion);
+    EXPECT_EQ(c.has_value(), end < 0) << "end " << end;
+    EXPECT_EQ(c.has_value(), plain.has_value()) << "end " << end;
+    EXPECT_EQ(scene.touches(prepared, motion), end < 0) << "end " << end;
+    if (c && plain) {
+      EXPECT_NEAR(c->t, plain->t, 1e-10);
+      EXPECT_NEAR(c->t, (1 + lowest) / (1 + lowest - end), 1e-9);  // lowest point: 1 + lowest at t = 0, end at 1
+    }
+  }
+}
+
+// Seeded random scenes (an octahedron or a box on a random SAM, sometimes a two-span polySAM,
+// near a static octahedron or box, or a static sphere): the prepared queries agree with the
+// plain ones (first contact within 1e-10, the same touches answer, every contact event of one
+// found by the other), and the first contact with the sampling oracle is never late.
+TEST(CollidePrepared, AgreesWithThePlainQueriesOnRandomScenes) {
+  std::mt19937_64 rng(16180339);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  int compared = 0, hits = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const Mesh fixed = trial % 3 == 0 ? octahedron(V(0, 0, 0), 1.0)
+                       : trial % 3 == 1 ? box(V(-0.8, -0.6, -0.7), V(0.7, 0.9, 0.6))
+                                        : uvSphere(10, 20, 0.9);
+    const Mesh moving = trial % 2 ? octahedron(V(0, 0, 0), 0.6) : box(V(-0.5, -0.3, -0.4), V(0.4, 0.5, 0.3));
+    const StaticScene scene(fixed.v, fixed.f);
+    const PreparedMesh prepared(moving.v, moving.f);
+    const V dir = V(U(rng), U(rng), U(rng)).normalized();
+    const Affine3 B = Affine3::translation(2.5 * dir) * Affine3::rotation(V(U(rng), U(rng), U(rng)), 3 * U(rng));
+    Eigen::Matrix3d L = Eigen::Matrix3d::Identity();
+    if (trial % 4 != 0)  // every fourth motion rigid (a screw)
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) L(i, j) += 0.25 * U(rng);
+    const Affine3 C = Affine3(L, -1.5 * dir + 0.8 * V(U(rng), U(rng), U(rng))) *
+                      Affine3::rotation(V(U(rng), U(rng), U(rng)), 3 * U(rng));
+    if (L.determinant() <= 0 || !steady::samExists(B, C)) continue;
+    std::vector<Affine3> keys{B, C};
+    if (trial % 5 == 0) keys.insert(keys.begin() + 1, steady::sam(B, 0.5, C) * Affine3::rotation(V(0, 0, 1), 0.4));
+    const steady::MotionOptions split{{}, steady::NoSamPolicy::Split, 12};
+    const Motion3 motion = Motion3::polySam(keys, split);
+    ++compared;
+    const auto got = scene.firstContact(prepared, motion);
+    const auto plain = scene.firstContact(moving.v, moving.f, motion);
+    ASSERT_EQ(got.has_value(), plain.has_value()) << "trial " << trial;
+    EXPECT_EQ(scene.touches(prepared, motion), plain.has_value()) << "trial " << trial;
+    if (got) {
+      ++hits;
+      EXPECT_NEAR(got->t, plain->t, 1e-10) << "trial " << trial;
+      EXPECT_TRUE(got->certain) << "trial " << trial;
+    }
+    const std::vector<Contact> all = scene.contacts(prepared, motion);
+    const std::vector<Contact> all_plain = scene.contacts(moving.v, moving.f, motion);
+    auto found = [](const Contact& c, const std::vector<Contact>& in) {
+      for (const Contact& d : in)
+        if (d.type == c.type && d.a == c.a && d.b == c.b && std::abs(d.t - c.t) <= 1e-9) return true;
+      return false;
+    };
+    for (const Contact& c : all) EXPECT_TRUE(found(c, all_plain)) << "trial " << trial << ": extra event at " << c.t;
+    for (const Contact& c : all_plain) EXPECT_TRUE(found(c, all)) << "trial " << trial << ": missed event at " << c.t;
+    if (got) {
+      ASSERT_FALSE(all.empty());
+      EXPECT_NEAR(all.front().t, got->t, 1e-10);
+    }
+  }
+  EXPECT_GT(compared, 200);
+  EXPECT_GT(hits, 100);
+  std::printf("compared %d scenes, %d with contact\n", compared, hits);
+}
+
+// Fine meshes over long motions (many halvings of the time intervals, triangles refined alone):
+// a sphere of 2,208 triangles turning and sinking onto a plate of 28,800; convex body, flat
+// plate, so the first contact is the first time a vertex reaches z = 0 (dense per-vertex oracle
+// with bisection). One prepared mesh serves every motion.
+TEST(CollidePrepared, FineMeshesOnLongMotionsKeepTheExactFirstContact) {
+  const Mesh plate = grid(120, 3.0);
+  const StaticScene scene(plate.v, plate.f);
+  const Mesh ball = uvSphere(24, 48, 0.5);
+  const PreparedMesh prepared(ball.v, ball.f);
+  std::mt19937_64 rng(4815162342);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int k = 0; k < 12; ++k) {
+    const Affine3 B = Affine3::translation(V(0.3 * u(rng), 0.3 * u(rng), 0.9)) * Affine3::rotation(V(u(rng), u(rng), 1), u(rng));
+    Affine3 L = Affine3::rotation(V(u(rng), u(rng), u(rng)), 2 + u(rng));
+    if (k % 2 == 1) {
+      Eigen::Matrix3d shear = Eigen::Matrix3d::Identity();
+      shear(0, 2) = 0.3 * u(rng);
+      L = L * Affine3(shear, V::Zero()) * Affine3::scaling(V(1.2 + 0.2 * u(rng), 0.8 + 0.1 * u(rng), 1 + 0.2 * u(rng)));
+    }
+    const Affine3 C = Affine3::translation(V(0.5 * u(rng), 0.5 * u(rng), -0.55 + 0.15 * u(rng))) * L * B;
+    const Motion3 motion = Motion3::polySam(std::vector<Affine3>{B, C});
+    double oracle = 2;
+    const int N = 4000;
+    for (const V& p : ball.v) {
+      auto z = [&](double t) { return motion.pose(t).applyPoint(p).z(); };
+      double prev = z(0);
+      for (int i = 1; i <= N && static_cast<double>(i - 1) / N < oracle; ++i) {
+        const double t = static_cast<double>(i) / N, cur = z(t);
+        if (prev > 0 && cur <= 0) {
+          double lo = static_cast<double>(i - 1) / N, hi = t;
+          for (int it = 0; it < 60; ++it) (z(0.5 * (lo + hi)) > 0 ? lo : hi) = 0.5 * (lo + hi);
+          oracle = std::min(oracle, hi);
+          break;
+        }
+        prev = cur;
+      }
+    }
+    ASSERT_LT(oracle, 1.0) << "motion " << k;
+    const auto c = scene.firstContact(prepared, motion);
+    ASSERT_TRUE(c.has_value()) << "motion " << k;
+    EXPECT_NEAR(c->t, oracle, 1e-9) << "motion " << k;
+    EXPECT_LE(c->t, oracle + 1e-12) << "motion " << k;
+    EXPECT_NEAR(c->point.z(), 0.0, 1e-9);
+  }
+}
+
+TEST(CollidePrepared, BadInputGivesTypedErrors) {
+  const Mesh cube = box(V(-0.5, -0.5, -0.5), V(0.5, 0.5, 0.5));
+  // The code of the steady::Error thrown by f (fails the test when f throws nothing).
+  auto code = [](auto&& f) {
+    try {
+      f();
+    } catch (const steady::Error& e) {
+      return e.code();
+    }
+    ADD_FAILURE() << "no steady::Error thrown";
+    return steady::ErrorCode::Io;
+  };
+  EXPECT_EQ(code([] { PreparedMesh m({}, {}); }), steady::ErrorCode::DegenerateInput);
+  EXPECT_EQ(code([&] { PreparedMesh m(cube.v, {{0, 1, 99}}); }), steady::ErrorCode::InvalidArgument);
+  EXPECT_EQ(code([&] { PreparedMesh m({V(0, 0, 0), V(1, 0, 0), V(NAN, 0, 0)}, {{0, 1, 2}}); }),
+            steady::ErrorCode::NonFinite);
+  EXPECT_EQ(code([&] { PreparedMesh m({V(0, 0, 0), V(1, 0, 0), V(2, 0, 0)}, {{0, 1, 2}}); }),
+            steady::ErrorCode::DegenerateInput);
+  const StaticScene scene(cube.v, cube.f);
+  PreparedMesh prepared(cube.v, cube.f);
+  EXPECT_EQ(prepared.faces().size(), cube.f.size());
+  EXPECT_EQ(prepared.vertices().size(), cube.v.size());
+  const Motion3 motion = Motion3::polySam(std::vector<Affine3>{Affine3::translation(V(0, 0, 3)), Affine3()});
+  steady::CollideOptions bad;
+  bad.contact_tolerance = -1;
+  EXPECT_EQ(code([&] { (void)scene.firstContact(prepared, motion, bad); }), steady::ErrorCode::InvalidArgument);
+  bad = {};
+  bad.roots.time_tolerance = 0;
+  EXPECT_EQ(code([&] { (void)scene.firstContact(prepared, motion, bad); }), steady::ErrorCode::InvalidArgument);
+  // A prepared mesh moves like any value; the cube sinking from z = 3 onto its copy at the origin
+  // touches it when its bottom reaches z = 0.5, at t = 2/3.
+  const PreparedMesh moved(std::move(prepared));
+  const auto c = scene.firstContact(moved, motion);
+  ASSERT_TRUE(c.has_value());
+  EXPECT_NEAR(c->t, 2.0 / 3.0, 1e-12);
+  EXPECT_LE(c->t, 2.0 / 3.0 + 1e-12);
+}
+
+}  // namespace
