@@ -3,6 +3,7 @@
 // exact triangle/triangle intersection test, then bisection).
 #include <steady/collide/collide.hpp>
 
+#include "collide/plane_oracle.hpp"
 #include "support/meshes.hpp"
 
 #include <gtest/gtest.h>
@@ -93,22 +94,7 @@ TEST(Collide, FineMeshesOnLongMotionsKeepTheExactFirstContact) {
   }
   for (std::size_t k = 0; k < motions.size(); ++k) {
     const Motion3 motion = Motion3::polySam(std::vector<Affine3>{motions[k].first, motions[k].second});
-    double oracle = 2;
-    const int N = 4000;
-    for (const V& p : ball.v) {
-      auto z = [&](double t) { return motion.pose(t).applyPoint(p).z(); };
-      double prev = z(0);
-      for (int i = 1; i <= N && static_cast<double>(i - 1) / N < oracle; ++i) {
-        const double t = static_cast<double>(i) / N, cur = z(t);
-        if (prev > 0 && cur <= 0) {
-          double lo = static_cast<double>(i - 1) / N, hi = t;
-          for (int it = 0; it < 60; ++it) (z(0.5 * (lo + hi)) > 0 ? lo : hi) = 0.5 * (lo + hi);
-          oracle = std::min(oracle, hi);
-          break;
-        }
-        prev = cur;
-      }
-    }
+    const double oracle = steady_test::firstPlaneCrossing(motion, ball.v);
     ASSERT_LT(oracle, 1.0) << "motion " << k << " must reach the plate";
     const auto c = scene.firstContact(ball.v, ball.f, motion);
     ASSERT_TRUE(c.has_value()) << "motion " << k;

@@ -5,6 +5,7 @@
 #include <steady/collide/collide.hpp>
 #include <steady/core/error.hpp>
 
+#include "collide/plane_oracle.hpp"
 #include "support/meshes.hpp"
 
 #include <gtest/gtest.h>
@@ -166,22 +167,7 @@ TEST(CollidePrepared, FineMeshesOnLongMotionsKeepTheExactFirstContact) {
     }
     const Affine3 C = Affine3::translation(V(0.5 * u(rng), 0.5 * u(rng), -0.55 + 0.15 * u(rng))) * L * B;
     const Motion3 motion = Motion3::polySam(std::vector<Affine3>{B, C});
-    double oracle = 2;
-    const int N = 4000;
-    for (const V& p : ball.v) {
-      auto z = [&](double t) { return motion.pose(t).applyPoint(p).z(); };
-      double prev = z(0);
-      for (int i = 1; i <= N && static_cast<double>(i - 1) / N < oracle; ++i) {
-        const double t = static_cast<double>(i) / N, cur = z(t);
-        if (prev > 0 && cur <= 0) {
-          double lo = static_cast<double>(i - 1) / N, hi = t;
-          for (int it = 0; it < 60; ++it) (z(0.5 * (lo + hi)) > 0 ? lo : hi) = 0.5 * (lo + hi);
-          oracle = std::min(oracle, hi);
-          break;
-        }
-        prev = cur;
-      }
-    }
+    const double oracle = steady_test::firstPlaneCrossing(motion, ball.v);
     ASSERT_LT(oracle, 1.0) << "motion " << k;
     const auto c = scene.firstContact(prepared, motion);
     ASSERT_TRUE(c.has_value()) << "motion " << k;
