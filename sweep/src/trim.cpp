@@ -155,6 +155,9 @@ struct Arrangement {
   std::vector<EPoint> points;
   std::vector<Tri> faces;
   std::vector<int> weight;  // per face: how many coincident layers it stands for (>= 1)
+  // Per face: the cycle triangle it was cut from (of the first layer, for merged faces). Faces
+  // cut from one triangle lie in its plane and do not overlap.
+  std::vector<int> source;
   std::size_t crossing_pairs = 0;
   std::size_t merged = 0;     // faces folded into a coincident face
   std::size_t cancelled = 0;  // faces dropped because coincident layers cancelled
@@ -174,14 +177,16 @@ void mergeCoincident(Arrangement& A) {
   std::unordered_map<Tri, int, Hash> first;
   first.reserve(A.faces.size());
   std::vector<Tri> faces;
-  std::vector<int> weight;
-  for (const Tri& t : A.faces) {
+  std::vector<int> weight, source;
+  for (std::size_t g = 0; g < A.faces.size(); ++g) {
+    const Tri& t = A.faces[g];
     Tri key = t;
     std::sort(key.begin(), key.end());
     auto [it, added] = first.emplace(key, static_cast<int>(faces.size()));
     if (added) {
       faces.push_back(t);
       weight.push_back(1);
+      source.push_back(A.source[g]);
       continue;
     }
     ++A.merged;
@@ -191,6 +196,7 @@ void mergeCoincident(Arrangement& A) {
   }
   A.faces.clear();
   A.weight.clear();
+  A.source.clear();
   for (std::size_t f = 0; f < faces.size(); ++f) {
     if (weight[f] == 0) {
       ++A.cancelled;
@@ -200,6 +206,7 @@ void mergeCoincident(Arrangement& A) {
     if (weight[f] < 0) std::swap(t[1], t[2]);
     A.faces.push_back(t);
     A.weight.push_back(std::abs(weight[f]));
+    A.source.push_back(source[f]);
   }
 }
 
@@ -317,6 +324,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
       options.progress({"intersect", 0.5 + 0.5 * static_cast<double>(t) / static_cast<double>(T.size())});
     if (cons[t].empty()) {
       out.faces.push_back(T[t]);
+      out.source.push_back(static_cast<int>(t));
       continue;
     }
     const EPoint A = out.points[T[t][0]], B = out.points[T[t][1]], C = out.points[T[t][2]];
@@ -352,6 +360,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
       Tri r{{f->vertex(0)->info().id, f->vertex(1)->info().id, f->vertex(2)->info().id}};
       if (flip) std::swap(r[1], r[2]);
       out.faces.push_back(r);
+      out.source.push_back(static_cast<int>(t));
     }
   }
   mergeCoincident(out);
@@ -427,6 +436,7 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
   struct Ray {
     EPoint from, to;
     EK::Vector_3 normal;  // of the representative face
+    int face = 0;  // the representative face, inside which the ray starts
     int crossings = 0, jump = 0, group = 0;
     bool degenerate = false;
   };
@@ -447,6 +457,7 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
     const Vec to = approx[t[0]] + 4.0 * size * d;
     r.to = EPoint(to.x(), to.y(), to.z());
     r.group = p;
+    r.face = rep[p];
     return r;
   };
   L.w_front.assign(np, 0);
@@ -476,6 +487,13 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
         ray_boxes.begin(), ray_boxes.end(), face_boxes.begin(), face_boxes.end(), [&](const Box& rb, const Box& fb) {
           Ray& r = rays[rb.info()];
           if (r.degenerate) return;
+          // Faces cut from the representative face's cycle triangle lie in its plane and meet
+          // the origin (strictly inside the representative face) only in that face: decided
+          // without the exact test, which would have to evaluate the origin exactly.
+          if (A.source[fb.info()] == A.source[static_cast<std::size_t>(r.face)]) {
+            if (fb.info() == static_cast<std::size_t>(r.face)) r.jump += A.weight[fb.info()];
+            return;
+          }
           const Tri& t = T[fb.info()];
           const EPoint &a = P[t[0]], &b = P[t[1]], &c = P[t[2]];
           const auto s_from = CGAL::orientation(a, b, c, r.from);
@@ -1005,12 +1023,32 @@ std::vector<char> buriedPatches(const Arrangement& A, const Labels& L, double ep
 // some edge path does not close, some loop cannot be filled, or a filling face would leave an
 // edge with other than two faces; `trouble` then holds the vertices of the first such path.
 long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>& trouble) {
-  std::unordered_map<std::uint64_t, int> net;  // directed edge count, a < b positive
-  for (const Tri& t : T)
-    for (int k = 0; k < 3; ++k) net[edgeKey(t[k], t[(k + 1) % 3])] += t[k] < t[(k + 1) % 3] ? 1 : -1;
+  // Per undirected edge: how many faces use it and the net direction (a < b positive), by a
+  // sort of every face's edges (faster than hashing here: this runs once per selection round).
+  struct EdgeUse {
+    std::uint64_t key;
+    int faces, net;
+  };
+  auto edgeUses = [](std::initializer_list<const std::vector<Tri>*> lists) {
+    std::vector<std::pair<std::uint64_t, int>> all;
+    for (const std::vector<Tri>* list : lists)
+      for (const Tri& t : *list)
+        for (int k = 0; k < 3; ++k)
+          all.emplace_back(edgeKey(t[k], t[(k + 1) % 3]), t[k] < t[(k + 1) % 3] ? 1 : -1);
+    std::sort(all.begin(), all.end());
+    std::vector<EdgeUse> out;
+    for (const auto& [key, dir] : all) {
+      if (out.empty() || out.back().key != key) out.push_back({key, 0, 0});
+      ++out.back().faces;
+      out.back().net += dir;
+    }
+    return out;
+  };
   // Unmatched directed edges a -> b (as the faces run), by their start.
   std::unordered_multimap<int, int> from;
-  for (const auto& [key, n] : net) {
+  for (const EdgeUse& e : edgeUses({&T})) {
+    const std::uint64_t key = e.key;
+    const int n = e.net;
     if (n == 0) continue;
     const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
     for (int i = 0; i < std::abs(n); ++i) n > 0 ? from.emplace(a, b) : from.emplace(b, a);
@@ -1055,18 +1093,13 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
   }
   // Every edge of a filling face must end up with exactly two faces, one each way (a diagonal
   // that repeats an edge of the surface would make it non-manifold).
-  std::unordered_map<std::uint64_t, std::array<int, 2>> use;  // [faces, net direction]
-  for (const std::vector<Tri>* list : {&T, &added})
-    for (const Tri& t : *list)
-      for (int k = 0; k < 3; ++k) {
-        auto& u = use[edgeKey(t[k], t[(k + 1) % 3])];
-        ++u[0];
-        u[1] += t[k] < t[(k + 1) % 3] ? 1 : -1;
-      }
+  const std::vector<EdgeUse> use = edgeUses({&T, &added});
   for (std::size_t f = 0; f < added.size(); ++f)
     for (int k = 0; k < 3; ++k) {
-      const auto& u = use[edgeKey(added[f][k], added[f][(k + 1) % 3])];
-      if (u[0] != 2 || u[1] != 0) return trouble = loops[loop_of[f]], -1;
+      const std::uint64_t key = edgeKey(added[f][k], added[f][(k + 1) % 3]);
+      const auto u = std::lower_bound(use.begin(), use.end(), key,
+                                      [](const EdgeUse& e, std::uint64_t x) { return e.key < x; });
+      if (u->faces != 2 || u->net != 0) return trouble = loops[loop_of[f]], -1;
     }
   T.insert(T.end(), added.begin(), added.end());
   return static_cast<long>(loops.size());
