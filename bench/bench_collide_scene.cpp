@@ -285,8 +285,7 @@ const bool registered = [] {
       for (int n : {100, 1000})
         benchmark::RegisterBenchmark(("BM_FclSampled" + std::to_string(n) + "/" + tag).c_str(), BM_FclSampled,
                                      std::string(name), screw, n)
-            ->Unit(benchmark::kMillisecond)
-            ->Iterations(1);
+            ->Unit(benchmark::kMillisecond);
 #endif
     }
     benchmark::RegisterBenchmark(("BM_SteadyClearance/" + std::string(name) + "/screw").c_str(), BM_SteadyClearance,
