@@ -61,10 +61,12 @@ int findRoot(std::vector<int>& parent, int x) {
 
 // Where a body-coordinate point lies on the body: P[a] + s (P[b] - P[a]) + t (P[c] - P[a]) with
 // body vertices a, b, c (c < 0: on the edge ab); a < 0 for the body's own vertices. Posed, the
-// same combination of the posed vertices is the point's exact position (ExactPosition).
+// same combination of the posed vertices is the point's exact position (ExactPosition). `edge`:
+// the body edge (a, b) for a point on an edge, -1 otherwise.
 struct Where {
   int a = -1, b = -1, c = -1;
   double s = 0, t = 0;
+  int edge = -1;
 };
 
 // A point on an edge at parameter r, `(1 - r) p[v0] + r p[v1]`.
@@ -202,7 +204,7 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
         zero[e][1] = zero[e][0];
         continue;
       }
-      const int id = addPoint((1 - root[i]) * P[a] + root[i] * P[b], Where{a, b, -1, root[i], 0.0});
+      const int id = addPoint((1 - root[i]) * P[a] + root[i] * P[b], Where{a, b, -1, root[i], 0.0, static_cast<int>(e)});
       zero[e][i] = id;
       on_edge[e].push_back({root[i], id});
     }
@@ -332,7 +334,7 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
       Where w;
       const double r = s.rp + t * (s.rq - s.rp);
       if (s.edge >= 0) {
-        w = Where{E[s.edge].vertices[0], E[s.edge].vertices[1], -1, r, 0.0};
+        w = Where{E[s.edge].vertices[0], E[s.edge].vertices[1], -1, r, 0.0, s.edge};
       } else {  // on the chord of face s.face
         const auto lp = barycentric(s.p, s.face), lq = barycentric(s.q, s.face);
         w = Where{F[s.face][0], F[s.face][1], F[s.face][2], (1 - t) * lp[1] + t * lq[1], (1 - t) * lp[2] + t * lq[2]};
@@ -365,6 +367,22 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
     out.exact.push_back(ExactPosition{a, b, c, s, c >= 0 ? t : 0.0});
     return static_cast<int>(out.vertices.size()) - 1;
   };
+  // Joints. A span that starts where the previous one ended (Cycle::joint_vertex, joint_edge)
+  // starts from that span's end vertices for the same body points: body vertices by index, points
+  // on an edge by their edge parameter (merged within kMergeParameter, as the zeros of an edge's
+  // two faces are). So the caps and strips the two spans leave at the joint meet in identical
+  // exact points, also where the previous span moved its points onto a line (below).
+  if (!out.joint_vertex.empty()) {
+    for (std::size_t q = 0; q < np; ++q) {
+      const Where& w = on_body[q];
+      if (w.a < 0) {
+        id0[q] = out.joint_vertex[q];
+      } else if (w.edge >= 0) {
+        for (const auto& [r, v] : out.joint_edge[static_cast<std::size_t>(w.edge)])
+          if (std::abs(r - w.s) <= kMergeParameter) id0[q] = v;
+      }
+    }
+  }
   std::function<int(int)> at0, at1;
   at0 = [&](int q) {
     if (id0[q] < 0) {
@@ -385,36 +403,91 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
   // Strips that slide along themselves. A boundary segment on a line that the motion keeps
   // invariant (a face containing a screw axis while the span rises or scales along it) sweeps
   // no area, but its vertices, computed a few ulps off that line, make a sliver ribbon whose
-  // exact arrangement rounds into edges with four faces. When every row of such a segment lies
-  // within kOnLine of the line through its two τ = 0 ends, all its later vertices (and its
-  // τ = 0 subdivision points) are placed exactly on that line (ExactPosition on the two ends),
-  // so that its triangles have no area and drop out of the arrangement.
+  // exact arrangement rounds into edges with four faces (or faces that cross). A segment is flat
+  // when every row of its two ends lies within kOnLine ε of the line through its τ = 0 ends.
+  // Flat segments that share points (a run of mesh edges along the axis) form a group, and the
+  // whole group gets one line, through its two τ = 0 ends farthest apart, provided every row of
+  // every end of the group lies within kOnLine ε of it: body vertices along the axis are rarely
+  // exactly collinear (input noise of 1e-17), and a point shared by two segments placed on either
+  // segment's own line would leave the other segment's strip a ribbon of slivers. All of the
+  // group's vertices are then placed exactly on that line (ExactPosition on the two anchors): at
+  // τ = 0 every point but the anchors (unless the previous span left it at the joint, or it was
+  // already placed), at the interior rows, and at τ = 1, so that its triangles have no area and
+  // drop out of the arrangement. A group that is not within reach of one line keeps one line per
+  // segment (a point shared by two of them stays on the first). Vertices move by at most kOnLine ε.
   std::vector<std::array<int, 2>> line_of(np, {{-1, -1}});  // anchors (vertex ids) of the line
   auto onLine = [&](int q, const Vec& x) {
     const Vec& A = out.vertices[line_of[q][0]];
     const Vec d = out.vertices[line_of[q][1]] - A;
     return combination(line_of[q][0], line_of[q][1], -1, (x - A).dot(d) / d.squaredNorm(), 0.0);
   };
-  for (std::size_t j = 0; j < segs.size(); ++j) {
-    const Segment& s = segs[j];
-    const Grid& grid = grids[comp_of[s.p]];
-    const Vec P0 = grid.world[0][local[s.p]];
-    const Vec d = grid.world[0][local[s.q]] - P0;
-    const double tol = kOnLine * eps;
-    if (!(d.norm() > kOnLine * eps)) continue;
-    bool flat = true;
-    for (std::size_t k = 1; k < grid.tau.size() && flat; ++k)
-      for (int q : {s.p, s.q}) flat = flat && (grid.world[k][local[q]] - P0).cross(d).norm() <= tol * d.norm();
-    if (!flat) continue;
-    const std::array<int, 2> anchors{{at0(s.p), at0(s.q)}};
-    std::vector<int> pts{s.p, s.q};
-    pts.insert(pts.end(), sub[j].begin(), sub[j].end());
+  const double line_tol = kOnLine * eps;
+  // Is every row of the points `ends` (of one grid) within line_tol of the line through the τ = 0
+  // positions of points a and b?
+  auto alongLine = [&](const Grid& grid, int a, int b, const std::vector<int>& ends) {
+    const Vec A = grid.world[0][local[a]];
+    const Vec d = grid.world[0][local[b]] - A;
+    if (!(d.norm() > line_tol)) return false;
+    for (const auto& row : grid.world)
+      for (int q : ends)
+        if (!((row[local[q]] - A).cross(d).norm() <= line_tol * d.norm())) return false;
+    return true;
+  };
+  // Places the points `pts` on the line through the τ = 0 vertices of points a and b.
+  auto placeOnLine = [&](const std::vector<int>& pts, int a, int b) {
+    const std::array<int, 2> anchors{{at0(a), at0(b)}};
     for (int q : pts)
       if (line_of[q][0] < 0) line_of[q] = anchors;
-    for (int q : sub[j])
-      if (id0[q] < 0) id0[q] = onLine(q, start(pt[q]));
+    for (int q : pts)
+      if (q != a && q != b && id0[q] < 0 && line_of[q] == anchors) id0[q] = onLine(q, start(pt[q]));
     for (int q : pts)
       if (!fixed[q] && id1[q] < 0) id1[q] = onLine(q, end_pose(pt[q]));
+  };
+  {
+    std::vector<int> flat_parent(np);
+    std::iota(flat_parent.begin(), flat_parent.end(), 0);
+    std::vector<char> flat(segs.size(), 0);
+    for (std::size_t j = 0; j < segs.size(); ++j) {
+      const Segment& s = segs[j];
+      flat[j] = alongLine(grids[comp_of[s.p]], s.p, s.q, {s.p, s.q});
+      if (flat[j]) flat_parent[findRoot(flat_parent, s.p)] = findRoot(flat_parent, s.q);
+    }
+    std::vector<std::vector<int>> groups;  // flat segments, by group
+    std::vector<int> group_of_root(np, -1);
+    for (std::size_t j = 0; j < segs.size(); ++j) {
+      if (!flat[j]) continue;
+      int& grp = group_of_root[findRoot(flat_parent, segs[j].p)];
+      if (grp < 0) {
+        grp = static_cast<int>(groups.size());
+        groups.emplace_back();
+      }
+      groups[grp].push_back(static_cast<int>(j));
+    }
+    for (const std::vector<int>& group : groups) {
+      std::vector<int> ends;
+      for (int j : group)
+        for (int q : {segs[j].p, segs[j].q})
+          if (std::find(ends.begin(), ends.end(), q) == ends.end()) ends.push_back(q);
+      const Grid& grid = grids[comp_of[ends[0]]];
+      int a = segs[group[0]].p, b = segs[group[0]].q;
+      double widest = (grid.world[0][local[b]] - grid.world[0][local[a]]).squaredNorm();
+      for (std::size_t i = 0; i < ends.size(); ++i)
+        for (std::size_t k = i + 1; k < ends.size(); ++k) {
+          const double d2 = (grid.world[0][local[ends[k]]] - grid.world[0][local[ends[i]]]).squaredNorm();
+          if (d2 > widest) widest = d2, a = ends[i], b = ends[k];
+        }
+      if (alongLine(grid, a, b, ends)) {
+        std::vector<int> pts = ends;
+        for (int j : group) pts.insert(pts.end(), sub[j].begin(), sub[j].end());
+        placeOnLine(pts, a, b);
+      } else {
+        for (int j : group) {
+          std::vector<int> pts{segs[j].p, segs[j].q};
+          pts.insert(pts.end(), sub[j].begin(), sub[j].end());
+          placeOnLine(pts, segs[j].p, segs[j].q);
+        }
+      }
+    }
   }
   // A strip vertex at an interior row: on its line when it has one.
   auto rowVertex = [&](int q, const Vec& x) { return line_of[q][0] >= 0 ? onLine(q, x) : vertex(x); };
@@ -549,6 +622,19 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
         }
       prev = cur;
     }
+  }
+
+  // The joint for the next span (see Cycle::joint_vertex), or none.
+  out.joint_vertex.clear();
+  out.joint_edge.clear();
+  if (end_given) {
+    auto endVertex = [&](std::size_t q) { return fixed[q] ? id0[q] : id1[q]; };
+    out.joint_vertex.resize(P.size());
+    out.joint_edge.resize(ne);
+    for (std::size_t q = 0; q < P.size(); ++q) out.joint_vertex[q] = endVertex(q);
+    for (std::size_t q = P.size(); q < np; ++q)
+      if (on_body[q].edge >= 0 && endVertex(q) >= 0)
+        out.joint_edge[static_cast<std::size_t>(on_body[q].edge)].emplace_back(on_body[q].s, endVertex(q));
   }
 }
 

@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 namespace steady::sweep::detail {
@@ -31,6 +32,14 @@ struct Cycle {
   std::vector<std::array<int, 3>> triangles;  // oriented: Q's winding number is >= 0
   std::size_t cap_triangles = 0;
   std::size_t strip_triangles = 0;
+  // The joint left by the last span appended with an `end_pose`: the vertices it placed at that
+  // pose, per body vertex (-1: none) and, per body edge, its points on the edge (edge parameter
+  // from the edge's first vertex, vertex). The next span, which starts at that pose, takes these
+  // vertices for the same body points instead of posing them again, so that both spans meet in
+  // identical exact points even where one of them moved its points onto a line (cycle.cpp,
+  // "Strips that slide along themselves"). Empty after a span appended without `end_pose`.
+  std::vector<int> joint_vertex;
+  std::vector<std::vector<std::pair<double, int>>> joint_edge;
 };
 
 // Appends the cycle of `body` on `span` to `out`:
@@ -40,7 +49,9 @@ struct Cycle {
 // Caps are cut exactly along the grazing chords; every point where a strip meets a cap is a
 // vertex of both (no T-junction), so Q is closed as a chain: every directed edge is matched by
 // its reverse. eps is the tessellation tolerance (tessellation.hpp).
-// `end_pose` may be null: then the span's own pose at τ = 1 (see cleanPose) is used.
+// `end_pose` may be null: then the span's own pose at τ = 1 (CleanPoses in cycle.cpp) is used. When it is
+// given, the span records its joint in `out` (Cycle::joint_vertex, joint_edge) and the next call
+// must be for the span that starts at `end_pose`: it starts from those vertices.
 void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affine3* end_pose, double eps,
                      const GrazingOptions& grazing, int max_steps, int span_index);
 

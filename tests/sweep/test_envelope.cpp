@@ -412,12 +412,36 @@ TEST(Envelope, FaceThroughTheScrewAxis) {
   checkEnvelope(m, motion, env, epsOf(m), rng, "bracket about an axis in its face", co);
 }
 
-// Disabled: fails -- the same face through the axis on a polySAM of two such spans (the old
-// default motion: quarter turns about the z axis, rising by 2.5 and scaling by 1.2): at the
-// joint the first span's strip ends on its own line while the second span's caps start from
-// the chord points on the posed edges, a few ulps apart; the output is not closed (224 directed
-// edges without their reverse) and has 918 self-intersecting pairs. Issue "Sweep" stays open
-// for it.
+// The same face through the axis on a polySAM of two such spans (the old default motion: quarter
+// turns about the z axis, rising by 2.5 and scaling by 1.2). The run of mesh edges along the axis
+// (body vertices at y = 0 and y = 4.6e-17) once got one line per edge, so the edge between two
+// of them swept a ribbon of slivers; and the first span moved its end vertices onto its line
+// while the second posed them again, so the joint caps met in points a few ulps apart (15 pairs of
+// faces crossing). Now each run has one line and the second span starts from the first span's end
+// vertices: the output must be closed, manifold and free of self-intersections.
+TEST(Envelope, FaceThroughTheScrewAxisOnAPolySamIsClosedAndEmbedded) {
+  const Mesh m = bundledBracket();
+  const Affine3 quarter = Affine3::translation(V(0, 0, 2.5)) * Affine3::rotation(V(0, 0, 1), M_PI / 2) *
+                          Affine3::scaling(V(1.2, 1.2, 1.2));
+  const Motion3 motion = Motion3::polySam(std::vector<Affine3>{Affine3(), quarter, quarter * quarter});
+  const Envelope env = sweep(m, motion);
+  EXPECT_EQ(env.cycle_open_edges, 0u);
+  const MeshCheck mc = inspectMesh(env.vertices, env.triangles, true);
+  EXPECT_TRUE(mc.closed);
+  EXPECT_TRUE(mc.manifold);
+  EXPECT_TRUE(mc.oriented);
+  EXPECT_EQ(mc.self_intersections, 0);
+  EXPECT_EQ(mc.shells, 1);
+  EXPECT_GT(mc.volume, 0);
+  EXPECT_EQ(directedEdgeFaults(env.triangles, env.vertices.size()), "");
+}
+
+// Disabled: fails the oracle's boundary check on the case above. Some envelope vertices near the
+// far wall of the base plate's hole lie up to 41 eps inside the body posed at tau 0.84-0.95 of a
+// span (14 of about 16,600 vertices when all are checked; the seeded sample of 120 hits one at
+// 2.9 eps). The same happens when either span is swept alone and when the axis is moved 0.05 off
+// the face (no strip then slides along itself), so it is not the axis or the joint; its cause is
+// not yet known. Issue "Sweep" stays open for it.
 TEST(Envelope, DISABLED_FaceThroughTheScrewAxisOnAPolySam) {
   const Mesh m = bundledBracket();
   const Affine3 quarter = Affine3::translation(V(0, 0, 2.5)) * Affine3::rotation(V(0, 0, 1), M_PI / 2) *
