@@ -224,6 +224,56 @@ using Fb = CGAL::Constrained_triangulation_face_base_2<EK>;
 using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
 using CDT = CGAL::Constrained_Delaunay_triangulation_2<EK, Tds, CGAL::Exact_intersections_tag>;
 
+// The crossing of two triangles s and t that share exactly one vertex v and do not lie in one
+// plane, when it needs no general intersection: their intersection is a segment of the line
+// where their planes meet, from v to where that line leaves s or t first. It leaves s through
+// the edge opposite v; if that edge crosses t's plane strictly (its ends strictly on either
+// side) at a point X of t, the segment is [v, X] (X lies in s and t, and the line meets t in
+// no more than [v, X]), and likewise with s and t swapped. Returns
+// false in every other case (an end on the other plane, coplanar triangles), which the general
+// exact intersection handles. The point X is an exact expression in the input points, built
+// lazily: unlike the general intersection, whose interval evaluation is never certain at the
+// shared vertex and so falls back to exact rationals at once, it is evaluated exactly only if
+// a later predicate needs it.
+template <class Point>
+bool sharedVertexCrossing(const std::vector<Point>& P, const std::vector<EPoint>& EP, const Tri& s, const Tri& t,
+                          int v, Constraint& out) {
+  using K = typename CGAL::Kernel_traits<Point>::Kernel;
+  auto opposite = [&](const Tri& x, int* o) {
+    int k = 0;
+    for (int w : x)
+      if (w != v) o[k++] = w;
+  };
+  int os[2], ot[2];
+  opposite(s, os);
+  opposite(t, ot);
+  // Whether the edge (e0, e1) crosses the plane of triangle x strictly at a point of x.
+  auto through = [&](const int* e, const Tri& x) {
+    const auto o0 = CGAL::orientation(P[x[0]], P[x[1]], P[x[2]], P[e[0]]);
+    const auto o1 = CGAL::orientation(P[x[0]], P[x[1]], P[x[2]], P[e[1]]);
+    if (o0 == CGAL::COPLANAR || o1 == CGAL::COPLANAR || o0 == o1) return 0;  // not strictly
+    using Segment = typename K::Segment_3;
+    using Triangle = typename K::Triangle_3;
+    return CGAL::do_intersect(Segment(P[e[0]], P[e[1]]), Triangle(P[x[0]], P[x[1]], P[x[2]])) ? 1 : -1;
+  };
+  auto crossing = [&](const int* e, const Tri& x) {
+    const EPoint &a = EP[e[0]], &b = EP[e[1]], &p = EP[x[0]];
+    const EK::Vector_3 n = CGAL::cross_product(EP[x[1]] - p, EP[x[2]] - p);
+    const EK::FT da = n * (a - p), db = n * (b - p);
+    return a + (b - a) * (da / (da - db));
+  };
+  const int ts = through(os, t);
+  if (ts == 1) {
+    out = {EP[v], crossing(os, t), false};
+    return true;
+  }
+  if (through(ot, s) == 1) {
+    out = {EP[v], crossing(ot, s), false};
+    return true;
+  }
+  return false;
+}
+
 template <class Result>
 void addConstraints(const Result& x, std::vector<Constraint>& into) {
   if (!x) return;
@@ -302,7 +352,17 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   for (const auto& [i, j] : pairs) {
     if (options.progress && ++done % 4096 == 0)
       options.progress({"intersect", 0.5 * static_cast<double>(done) / static_cast<double>(pairs.size())});
-    if (plain(T[i]) && plain(T[j]) ? !crosses(ip, T[i], T[j]) : !crosses(ep, T[i], T[j])) continue;
+    const bool plain_pair = plain(T[i]) && plain(T[j]);
+    if (plain_pair ? !crosses(ip, T[i], T[j]) : !crosses(ep, T[i], T[j])) continue;
+    int sv[3];
+    Constraint c;
+    if (shared(T[i], T[j], sv) == 1 && (plain_pair ? sharedVertexCrossing(ip, EP, T[i], T[j], sv[0], c)
+                                                   : sharedVertexCrossing(ep, EP, T[i], T[j], sv[0], c))) {
+      cons[i].push_back(c);
+      cons[j].push_back(c);
+      ++out.crossing_pairs;
+      continue;
+    }
     const EK::Triangle_3 a(EP[T[i][0]], EP[T[i][1]], EP[T[i][2]]), b(EP[T[j][0]], EP[T[j][1]], EP[T[j][2]]);
     const auto x = CGAL::intersection(a, b);
     const std::size_t before_i = cons[i].size();
