@@ -243,6 +243,13 @@ void BM_SteadySweep(benchmark::State& state, const std::string& mesh, bool screw
   state.counters["shells"] = env.check.shells;
   state.counters["cycle_tris"] = static_cast<double>(env.cycle_triangles);
   state.counters["pairs"] = static_cast<double>(env.intersecting_pairs);
+  // What the output stage did (see Envelope): pockets, rounding, pinches.
+  state.counters["buried"] = static_cast<double>(env.buried_patches_removed);
+  state.counters["mouths"] = static_cast<double>(env.pocket_mouths_filled);
+  state.counters["snapped"] = static_cast<double>(env.rounding_merged);
+  state.counters["pinches"] = static_cast<double>(env.pinched_vertices_split);
+  state.counters["pinches_touching"] = static_cast<double>(env.pinches_touching);
+  state.counters["thin_removed"] = static_cast<double>(env.thin_cavities_removed + env.thin_solids_removed);
   errorCounters(state, b, span, k, env.vertices, env.triangles, env.volume);
   state.counters["eps_used"] = env.tolerance;
 }

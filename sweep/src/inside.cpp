@@ -119,6 +119,19 @@ class FaceTree {
             });
   }
 
+  // Calls keep_going(f) for the faces whose boxes meet the box [lo, hi] until it returns false.
+  template <class Visit>
+  void overlappingUntil(const Vec& lo, const Vec& hi, Visit&& keep_going) const {
+    bool stop = false;
+    forEach([&](const Vec& nlo, const Vec& nhi) {
+              return !stop && !((nlo.array() > hi.array()).any() || (lo.array() > nhi.array()).any());
+            },
+            [&](int f) {
+              if (!stop && !((flo_[f].array() > hi.array()).any() || (lo.array() > fhi_[f].array()).any()))
+                stop = !keep_going(f);
+            });
+  }
+
   // Calls visit(f) for every face whose box, inflated by `pad`, meets the segment [p, q].
   template <class Visit>
   void alongSegment(const Vec& p, const Vec& q, double pad, Visit&& visit) const {
@@ -442,10 +455,19 @@ struct SweptVolume::Impl {
     const double R = speed * r * pathFactor(r * sd.mu) * (1 + 1e-12) + round_z + 2 * delta * std::exp(sd.mu) * (1 + 1e-9);
     const Vec yc = sd.Binv.applyPoint(zc);
     const double Ry = R * sd.binv_norm * (1 + 1e-12) + 64 * kUlp * (yc.norm() + diag);
+    // More than 16 faces in reach halve the interval (down to 2^-10 of the span): the search
+    // for candidates stops at the 17th then, so that the wide balls of the first intervals do
+    // not list most of the body.
+    const bool can_halve = r > 1.0 / 1024;
+    bool many = false;
     cand.clear();
-    tree.overlapping(yc - Vec::Constant(Ry), yc + Vec::Constant(Ry), [&](int f) { cand.push_back(f); });
+    tree.overlappingUntil(yc - Vec::Constant(Ry), yc + Vec::Constant(Ry), [&](int f) {
+      cand.push_back(f);
+      many = can_halve && cand.size() > 16;
+      return !many;
+    });
     if (cand.empty()) return false;
-    if (cand.size() > 16 && r > 1.0 / 1024) {
+    if (many) {
       if (visit(sd, x, a, c, hit, cand, roots)) return true;
       return visit(sd, x, c, b, hit, cand, roots);
     }

@@ -1080,8 +1080,10 @@ std::vector<char> buriedPatches(const Arrangement& A, const Labels& L, double ep
 // simple loops (a vertex met again closes the loop from its first visit), and each loop is
 // triangulated by CGAL's hole filling (least area); the new faces run against the loop, so the
 // surface is closed again. Returns the number of loops filled, or -1 (and leaves T alone) when
-// some edge path does not close, some loop cannot be filled, or a filling face would leave an
-// edge with other than two faces; `trouble` then holds the vertices of the first such path.
+// some edge path does not close, some loop cannot be filled, a filling face would leave an
+// edge with other than two faces, or a filling face crosses the surface or another filling
+// face; `trouble` then holds the vertices of the first such path (of every loop whose filling
+// crosses, in the last case).
 long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>& trouble) {
   // Per undirected edge: how many faces use it and the net direction (a < b positive), by a
   // sort of every face's edges (faster than hashing here: this runs once per selection round).
@@ -1161,6 +1163,34 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
                                       [](const EdgeUse& e, std::uint64_t x) { return e.key < x; });
       if (u->faces != 2 || u->net != 0) return trouble = loops[loop_of[f]], -1;
     }
+  // Least-area filling sees only its loop: a filling face must not cross the rest of the
+  // surface nor another filling face (exact predicates on the double coordinates, as the
+  // output check uses). Every loop with such a face is reported at once.
+  {
+    std::vector<IPoint> P;
+    P.reserve(V.size());
+    for (const Vec& x : V) P.emplace_back(x.x(), x.y(), x.z());
+    auto boxes = [&](const std::vector<Tri>& list) {
+      std::vector<Box> out;
+      out.reserve(list.size());
+      for (std::size_t i = 0; i < list.size(); ++i)
+        out.emplace_back(P[list[i][0]].bbox() + P[list[i][1]].bbox() + P[list[i][2]].bbox(), i);
+      return out;
+    };
+    std::vector<Box> added_boxes = boxes(added), surface_boxes = boxes(T);
+    std::vector<char> bad(loops.size(), 0);
+    CGAL::box_intersection_d(added_boxes.begin(), added_boxes.end(), surface_boxes.begin(), surface_boxes.end(),
+                             [&](const Box& a, const Box& b) {
+                               if (crosses(P, added[a.info()], T[b.info()])) bad[loop_of[a.info()]] = 1;
+                             });
+    CGAL::box_self_intersection_d(added_boxes.begin(), added_boxes.end(), [&](const Box& a, const Box& b) {
+      if (crosses(P, added[a.info()], added[b.info()])) bad[loop_of[a.info()]] = bad[loop_of[b.info()]] = 1;
+    });
+    trouble.clear();
+    for (std::size_t l = 0; l < loops.size(); ++l)
+      if (bad[l]) trouble.insert(trouble.end(), loops[l].begin(), loops[l].end());
+    if (!trouble.empty()) return -1;
+  }
   T.insert(T.end(), added.begin(), added.end());
   return static_cast<long>(loops.size());
 }
