@@ -229,9 +229,8 @@ using CDT = CGAL::Constrained_Delaunay_triangulation_2<EK, Tds, CGAL::Exact_inte
 // where their planes meet, from v to where that line leaves s or t first. It leaves s through
 // the edge opposite v; if that edge crosses t's plane strictly (its ends strictly on either
 // side) at a point X of t, the segment is [v, X] (X lies in s and t, and the line meets t in
-// no more than [v, X]), and likewise with s and t swapped. Returns
-// false in every other case (an end on the other plane, coplanar triangles), which the general
-// exact intersection handles. The point X is an exact expression in the input points, built
+// no more than [v, X]), and likewise with s and t swapped. Returns false in every other case
+// (an end on the other plane, coplanar triangles), which the general exact intersection handles. The point X is an exact expression in the input points, built
 // lazily: unlike the general intersection, whose interval evaluation is never certain at the
 // shared vertex and so falls back to exact rationals at once, it is evaluated exactly only if
 // a later predicate needs it.
@@ -251,10 +250,10 @@ bool sharedVertexCrossing(const std::vector<Point>& P, const std::vector<EPoint>
   auto through = [&](const int* e, const Tri& x) {
     const auto o0 = CGAL::orientation(P[x[0]], P[x[1]], P[x[2]], P[e[0]]);
     const auto o1 = CGAL::orientation(P[x[0]], P[x[1]], P[x[2]], P[e[1]]);
-    if (o0 == CGAL::COPLANAR || o1 == CGAL::COPLANAR || o0 == o1) return 0;  // not strictly
+    if (o0 == CGAL::COPLANAR || o1 == CGAL::COPLANAR || o0 == o1) return false;  // not strictly
     using Segment = typename K::Segment_3;
     using Triangle = typename K::Triangle_3;
-    return CGAL::do_intersect(Segment(P[e[0]], P[e[1]]), Triangle(P[x[0]], P[x[1]], P[x[2]])) ? 1 : -1;
+    return CGAL::do_intersect(Segment(P[e[0]], P[e[1]]), Triangle(P[x[0]], P[x[1]], P[x[2]]));
   };
   auto crossing = [&](const int* e, const Tri& x) {
     const EPoint &a = EP[e[0]], &b = EP[e[1]], &p = EP[x[0]];
@@ -262,12 +261,11 @@ bool sharedVertexCrossing(const std::vector<Point>& P, const std::vector<EPoint>
     const EK::FT da = n * (a - p), db = n * (b - p);
     return a + (b - a) * (da / (da - db));
   };
-  const int ts = through(os, t);
-  if (ts == 1) {
+  if (through(os, t)) {
     out = {EP[v], crossing(os, t), false};
     return true;
   }
-  if (through(ot, s) == 1) {
+  if (through(ot, s)) {
     out = {EP[v], crossing(ot, s), false};
     return true;
   }
