@@ -12,9 +12,11 @@
 // 2. Labels. Faces joined across edges that have exactly two faces, traversed in opposite
 //    directions, form patches; the winding number is constant on each side of a patch. For each
 //    patch one exact ray (from a point inside one of its faces, nearly along the face normal's
-//    dominant axis, randomly tilted) counts the signed crossings of all other faces: the winding
-//    number w on the patch's front side. Faces coplanar with the ray's origin and containing it
-//    (overlapping copies) add their orientation to the jump across the patch instead. A ray
+//    dominant axis towards the nearer side of the scene's box, randomly tilted) counts the
+//    signed crossings of all other faces: the winding number w on the side of the patch it
+//    leaves (front, or back: then w_front = w_back - jump). Faces coplanar with the ray's origin
+//    and containing it (overlapping copies) add their orientation to the jump across the patch
+//    instead. A ray
 //    through an edge or a vertex of some face is re-cast from another point and direction.
 // 3. Selection. The envelope is the set of faces with w = 0 on one side and w >= 1 on the other,
 //    oriented towards w = 0; of overlapping copies one is kept. Coordinates are rounded to
@@ -490,13 +492,14 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
     face_boxes.emplace_back(pa, pb, f);
   }
 
-  // Rays: origin inside the representative face, end far outside the scene.
+  // Rays: origin inside the representative face, end outside the scene's box.
   struct Ray {
     EPoint from, to;
     EK::Vector_3 normal;  // of the representative face
     int face = 0;  // the representative face, inside which the ray starts
     int crossings = 0, jump = 0, group = 0;
     bool degenerate = false;
+    bool back = false;  // cast to the back side of the face: crossings count w on that side
   };
   std::mt19937_64 rng(0x5eed5eedULL);
   std::uniform_real_distribution<double> tilt(-1e-3, 1e-3), bary(0.2, 0.4);
@@ -510,9 +513,13 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
     const Vec n = (approx[t[1]] - approx[t[0]]).cross(approx[t[2]] - approx[t[0]]);
     int k = 0;
     n.cwiseAbs().maxCoeff(&k);
+    // Along axis k towards the nearer side of the scene's box (fewer faces to test), to 1% of
+    // the scene's size beyond it: the end is outside every face box.
+    const double up = hi[k] - approx[t[0]][k], down = approx[t[0]][k] - lo[k];
     Vec d(tilt(rng), tilt(rng), tilt(rng));
-    d[k] = n[k] > 0 ? 1.0 : -1.0;
-    const Vec to = approx[t[0]] + 4.0 * size * d;
+    d[k] = up <= down ? 1.0 : -1.0;
+    r.back = (d[k] > 0) != (n[k] > 0);
+    const Vec to = approx[t[0]] + (std::min(up, down) + 0.01 * size) * d;
     r.to = EPoint(to.x(), to.y(), to.z());
     r.group = p;
     r.face = rep[p];
@@ -593,7 +600,8 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
         again.push_back(p);
         continue;
       }
-      L.w_front[p] = rays[r].crossings;
+      // A ray cast to the back side counts w_back = w_front + jump.
+      L.w_front[p] = rays[r].back ? rays[r].crossings - rays[r].jump : rays[r].crossings;
       L.jump[p] = rays[r].jump;
       L.group[p] = rays[r].group;
     }
