@@ -245,6 +245,7 @@ void BM_SteadySweep(benchmark::State& state, const std::string& mesh, bool screw
   state.counters["pairs"] = static_cast<double>(env.intersecting_pairs);
   // What the output stage did (see Envelope): pockets, rounding, pinches.
   state.counters["buried"] = static_cast<double>(env.buried_patches_removed);
+  state.counters["cracks"] = static_cast<double>(env.crack_faces_removed);
   state.counters["mouths"] = static_cast<double>(env.pocket_mouths_filled);
   state.counters["snapped"] = static_cast<double>(env.rounding_merged);
   state.counters["pinches"] = static_cast<double>(env.pinched_vertices_split);

@@ -1081,6 +1081,101 @@ std::vector<char> buriedPatches(const Arrangement& A, const Labels& L, double ep
   return flag;
 }
 
+// Two selected faces face each other across an empty layer when the normals towards their empty
+// sides meet at a cosine below this: the walls of a crack are nearly parallel (two tessellated
+// sheets a fraction of ε apart over many ε), while the two sides of a concave crease of the
+// envelope whose empty wedge is wider than about 26 degrees (arccos 0.9 = 154 degrees between
+// the normals) never count.
+constexpr double kFacing = -0.9;
+// A face narrower than this times the largest coordinate magnitude of its corners (its doubled
+// area over its longest edge) has no usable normal in doubles: its corners are exact points
+// rounded to within 2^-53 of that magnitude, so the direction of its normal is known only to
+// about 1e-16 / width radians; at this width, to about 1e-7 radians, far inside the margin of
+// kFacing. The faces below it are the ribbons of rounding noise left where strips slide along a
+// line (the screw axis of a face through it: areas of 1e-15 eps^2 and far less, corners a few
+// ulps off one line), whose normals point anywhere: their own probes went in random directions,
+// and the corner probes of their neighbours, which touch them, took them for facing walls.
+// They neither probe nor count as walls. (On the bracket, 1e-9 of the coordinates is about 2e-6
+// eps: a true crack wall that narrow is a sliver whose neighbours probe the same layer.)
+constexpr double kNormalWidth = 1e-9;
+
+// Faces of the selection that are walls of a crack: a thin empty layer inside the swept volume
+// that reaches the envelope, so that its walls are joined across two-face edges to the outer
+// patches and buriedPatches, with one probe per patch, does not see it. Such a layer appears
+// where the front region of a face is a sliver that moves nearly in its own plane (a faceted
+// wall nearly tangent to the motion): the slab it sweeps is far thinner than the tessellation
+// tolerance, and the tessellated strips of the sliver's boundary, each within eps_t of its own
+// sheet, may swap sides and turn that slab (w = k + 1) into a layer of w = k - 1, which is
+// w = 0 where the slab lies inside the swept volume (k = 1), and opens where it reaches the
+// envelope (near the cap at the span's end).
+// A selected face of a patch that is not buried, with a usable normal (kNormalWidth), is a
+// crack wall when, from its centroid or one of its corners, the segment kBuriedProbe eps_t
+// long towards its empty side
+// - meets a selected face with a usable normal whose empty side faces it (kFacing): the face
+//   lies along a thin empty layer, so leaving it out and closing the mouth moves the surface by
+//   less than the probe's length; and
+// - ends inside the swept volume (the exact inside test, as in buriedPatches): the layer is
+//   buried, while a face of the true envelope lies within eps_t of the true boundary, so the
+//   end of its probe is outside.
+// Corners probe as well as the centroid: a long face can run from the mouth of a crack, where
+// its centroid's probe comes out into the open, to deep inside the swept volume. A corner's
+// probe also meets every facing face that shares the corner; at the tip of a crack, where its
+// walls meet, that is the only wall it meets.
+// Returns a flag per face.
+std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::vector<char>& buried, double eps_t,
+                             const std::function<bool(const Vec&)>& inside_swept) {
+  const std::size_t nf = A.faces.size();
+  std::vector<char> flag(nf, 0);
+  if (!inside_swept) return flag;
+  std::vector<IPoint> P;
+  P.reserve(A.points.size());
+  for (const EPoint& x : A.points) P.emplace_back(CGAL::to_double(x.x()), CGAL::to_double(x.y()), CGAL::to_double(x.z()));
+  auto vec = [&](int v) { return Vec(P[v].x(), P[v].y(), P[v].z()); };
+  auto ipoint = [](const Vec& x) { return IPoint(x.x(), x.y(), x.z()); };
+  // Per selected face with a usable normal: the unit normal towards its empty side and its box
+  // (the walls); per face of a patch that is not buried, four probe segments (origin 0 the
+  // centroid, 1-3 the corners).
+  constexpr int kOrigins = 4;
+  std::vector<Vec> empty_normal(nf, Vec::Zero());
+  std::vector<std::array<Vec, kOrigins>> origin(nf);
+  std::vector<Box> walls, probes;
+  for (std::size_t f = 0; f < nf; ++f) {
+    const int p = L.patch[f];
+    if (L.group[p] != p) continue;
+    const int front = L.w_front[p], back = L.w_front[p] + L.jump[p];
+    const int side = front <= 0 && back >= 1 ? 1 : back <= 0 && front >= 1 ? -1 : 0;
+    if (!side) continue;
+    const Tri& t = A.faces[f];
+    const Vec a = vec(t[0]), b = vec(t[1]), c = vec(t[2]);
+    const Vec n = (b - a).cross(c - a);
+    const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+    const double reach = std::max({a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff(), c.cwiseAbs().maxCoeff()});
+    if (!(n.norm() > kNormalWidth * reach * longest)) continue;
+    empty_normal[f] = side * n.normalized();
+    walls.emplace_back(P[t[0]].bbox() + P[t[1]].bbox() + P[t[2]].bbox(), f);
+    if (buried[p]) continue;
+    origin[f] = {{(a + b + c) / 3.0, a, b, c}};
+    for (int k = 0; k < kOrigins; ++k)
+      probes.emplace_back(ipoint(origin[f][k]).bbox() + ipoint(origin[f][k] + kBuriedProbe * eps_t * empty_normal[f]).bbox(),
+                          kOrigins * f + k);
+  }
+  auto probeEnd = [&](std::size_t f, int k) { return origin[f][k] + kBuriedProbe * eps_t * empty_normal[f]; };
+  std::vector<unsigned char> met(nf, 0);  // per face: bit k set when probe k meets a facing wall
+  CGAL::box_intersection_d(probes.begin(), probes.end(), walls.begin(), walls.end(), [&](const Box& pb, const Box& wb) {
+    const std::size_t f = pb.info() / kOrigins, g = wb.info();
+    const int k = static_cast<int>(pb.info() % kOrigins);
+    if (f == g || (met[f] >> k & 1) || empty_normal[f].dot(empty_normal[g]) > kFacing) return;
+    const Tri& t = A.faces[g];
+    if (CGAL::do_intersect(IK::Segment_3(ipoint(origin[f][k]), ipoint(probeEnd(f, k))),
+                           IK::Triangle_3(P[t[0]], P[t[1]], P[t[2]])))
+      met[f] |= static_cast<unsigned char>(1u << k);
+  });
+  for (std::size_t f = 0; f < nf; ++f)
+    for (int k = 0; k < kOrigins && !flag[f]; ++k)
+      if (met[f] >> k & 1) flag[f] = inside_swept(probeEnd(f, k));
+  return flag;
+}
+
 // Closes the surface where buried patches were left out: a pocket that opened to the outside
 // leaves a thin mouth, loops of edges with one face. The unmatched edges are followed into
 // simple loops (a vertex met again closes the loop from its first visit), and each loop is
@@ -1238,15 +1333,33 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
   t0 = std::chrono::steady_clock::now();
   if (options.progress) options.progress({"output", 0.0});
   std::vector<char> buried = buriedPatches(A, L, kTessellationShare * eps, inside_swept);
+  std::vector<char> crack = crackFaces(A, L, buried, kTessellationShare * eps, inside_swept);
+  // Crack walls joined across shared edges form regions; a region whose mouth cannot be closed
+  // is kept as a whole (as a buried patch is), so that no crack is closed halfway.
+  std::vector<int> crack_region(A.faces.size(), -1);
+  {
+    std::vector<int> parent(A.faces.size());
+    std::iota(parent.begin(), parent.end(), 0);
+    std::unordered_map<std::uint64_t, int> first;
+    for (std::size_t f = 0; f < A.faces.size(); ++f) {
+      if (!crack[f]) continue;
+      for (int k = 0; k < 3; ++k) {
+        auto [it, added] = first.emplace(edgeKey(A.faces[f][k], A.faces[f][(k + 1) % 3]), static_cast<int>(f));
+        if (!added) parent[findRoot(parent, it->second)] = findRoot(parent, static_cast<int>(f));
+      }
+    }
+    for (std::size_t f = 0; f < A.faces.size(); ++f)
+      if (crack[f]) crack_region[f] = findRoot(parent, static_cast<int>(f));
+  }
   std::vector<int> used(A.points.size(), -1);
-  // The selection, without the buried patches.
+  // The selection, without the buried patches and the crack walls.
   auto select = [&]() {
     env.vertices.clear();
     env.triangles.clear();
     std::fill(used.begin(), used.end(), -1);
     for (std::size_t f = 0; f < A.faces.size(); ++f) {
       const int p = L.patch[f];
-      if (L.group[p] != p || buried[p]) continue;
+      if (L.group[p] != p || buried[p] || crack[f]) continue;
       const int front = L.w_front[p], back = L.w_front[p] + L.jump[p];
       Tri t = A.faces[f];
       if (front <= 0 && back >= 1) {
@@ -1266,32 +1379,49 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
       env.triangles.push_back(t);
     }
   };
-  // Leave the buried patches out only where the mouths they open can be closed: the buried
-  // patches at a mouth that cannot be closed are kept, and the selection is made again (a few
-  // rounds, then none are left out).
+  // Leave the buried patches and crack walls out only where the mouths they open can be closed:
+  // the buried patches and crack regions at a mouth that cannot be closed are kept, and the
+  // selection is made again. After kMouthRounds rounds the crack walls are all kept and the
+  // rounds start again with the buried patches alone (so that cracks whose mouths cannot be
+  // closed never cost the removal of buried patches that could be); after kMouthRounds more,
+  // none are left out.
+  const std::vector<char> buried_found = buried;
   long mouths = 0;
   for (int round = 0;; ++round) {
     select();
-    if (std::find(buried.begin(), buried.end(), 1) == buried.end()) break;
+    if (std::find(buried.begin(), buried.end(), 1) == buried.end() && std::find(crack.begin(), crack.end(), 1) == crack.end())
+      break;
     std::vector<int> trouble;
     mouths = fillMouths(env.vertices, env.triangles, trouble);
     if (mouths >= 0) break;
     mouths = 0;
     if (round == kMouthRounds) {
-      std::fill(buried.begin(), buried.end(), 0);
+      if (std::find(crack.begin(), crack.end(), 1) != crack.end()) {
+        std::fill(crack.begin(), crack.end(), 0);
+        buried = buried_found;
+        round = -1;
+      } else {
+        std::fill(buried.begin(), buried.end(), 0);
+      }
       continue;
     }
-    // Keep the buried patches with a vertex on the troubled path.
+    // Keep the buried patches and the crack regions with a vertex on the troubled path.
     std::vector<char> at_mouth(A.points.size(), 0);
     std::vector<int> point_of(env.vertices.size(), -1);
     for (std::size_t v = 0; v < used.size(); ++v)
       if (used[v] >= 0) point_of[used[v]] = static_cast<int>(v);
     for (int v : trouble) at_mouth[point_of[v]] = 1;
+    std::set<int> kept_regions;
+    for (std::size_t f = 0; f < A.faces.size(); ++f) {
+      if (!(at_mouth[A.faces[f][0]] || at_mouth[A.faces[f][1]] || at_mouth[A.faces[f][2]])) continue;
+      buried[L.patch[f]] = 0;
+      if (crack[f]) kept_regions.insert(crack_region[f]);
+    }
     for (std::size_t f = 0; f < A.faces.size(); ++f)
-      if (buried[L.patch[f]] && (at_mouth[A.faces[f][0]] || at_mouth[A.faces[f][1]] || at_mouth[A.faces[f][2]]))
-        buried[L.patch[f]] = 0;
+      if (crack[f] && kept_regions.count(crack_region[f])) crack[f] = 0;
   }
   env.buried_patches_removed = static_cast<std::size_t>(std::count(buried.begin(), buried.end(), 1));
+  env.crack_faces_removed = static_cast<std::size_t>(std::count(crack.begin(), crack.end(), 1));
   env.pocket_mouths_filled = mouths < 0 ? 0 : static_cast<std::size_t>(mouths);
   // Rounding: exact points that differ by a few units in the last place (e.g. input noise of
   // 1e-17 carried through exact constructions) round to points that make slivers cross. Merge

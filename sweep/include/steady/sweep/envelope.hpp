@@ -24,9 +24,10 @@
 /// rounding. Where the sweep of the grazing curve folds over itself, two tessellated strips can
 /// swap sides and leave a thin empty pocket inside the swept volume; pockets whose walls have
 /// their empty side inside the swept volume 0.75 ε beyond them (the exact inside test) are
-/// removed and their mouths closed (Envelope::buried_patches_removed). So every envelope vertex
-/// lies within ε of the true boundary, and every posed body point lies inside the envelope or
-/// within ε of it.
+/// removed and their mouths closed (Envelope::buried_patches_removed); so are the walls of such
+/// layers that reach the envelope and are joined to its outer patches, found face by face
+/// (Envelope::crack_faces_removed). So every envelope vertex lies within ε of the true
+/// boundary, and every posed body point lies inside the envelope or within ε of it.
 
 #include <steady/core/motion.hpp>
 #include <steady/sweep/body.hpp>
@@ -130,7 +131,14 @@ struct Envelope {
   /// appear where the sweep of the grazing curve folds over itself and the tessellations of
   /// the two nearly coincident sheets swap sides.
   std::size_t buried_patches_removed = 0;
-  /// Mouths of such pockets (loops of edges left with one face) closed by hole filling.
+  /// Faces left out because they were walls of a crack: a thin empty layer inside the swept
+  /// volume that reaches the envelope, so that its walls are joined to the outer patches and no
+  /// patch of it is buried as a whole. It appears where the front region of a face is a sliver
+  /// moving nearly in its own plane and the tessellated strips of its boundary swap sides. A
+  /// face is such a wall when a probe 0.75 ε long from its centroid or a corner towards its
+  /// empty side meets a selected face facing it and ends inside the swept volume.
+  std::size_t crack_faces_removed = 0;
+  /// Mouths of such pockets and cracks (loops of edges left with one face) closed by hole filling.
   std::size_t pocket_mouths_filled = 0;
   /// Vertices merged after rounding because they lay within 1e-13 times the envelope's box
   /// diagonal of another (distinct exact points a few ulps apart, whose rounded slivers would
