@@ -1183,8 +1183,7 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
 // surface is closed again. Returns the number of loops filled, or -1 (and leaves T alone) when
 // some edge path does not close, some loop cannot be filled, a filling face would leave an
 // edge with other than two faces, or a filling face crosses the surface or another filling
-// face; `trouble` then holds the vertices of the first such path (of every loop whose filling
-// crosses, in the last case).
+// face; `trouble` then holds the vertices of every such path and loop.
 long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>& trouble) {
   // Per undirected edge: how many faces use it and the net direction (a < b positive), by a
   // sort of every face's edges (faster than hashing here: this runs once per selection round).
@@ -1216,13 +1215,20 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
     const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
     for (int i = 0; i < std::abs(n); ++i) n > 0 ? from.emplace(a, b) : from.emplace(b, a);
   }
+  // Every failing path or loop is reported (in `trouble`), so that one round of the caller
+  // keeps the patches at all of them.
+  trouble.clear();
+  auto fail = [&](const std::vector<int>& path) { trouble.insert(trouble.end(), path.begin(), path.end()); };
   std::vector<std::vector<int>> loops;
   while (!from.empty()) {
     std::vector<int> path{from.begin()->first};
     std::unordered_map<int, std::size_t> at{{path[0], 0}};
     for (;;) {
       auto it = from.find(path.back());
-      if (it == from.end()) return trouble = path, -1;  // a dead end: the edges form no loop
+      if (it == from.end()) {  // a dead end: these edges form no loop
+        fail(path);
+        break;
+      }
       const int next = it->second;
       from.erase(it);
       auto seen = at.find(next);
@@ -1240,18 +1246,26 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
   }
   std::vector<Tri> added;
   std::vector<int> loop_of;  // per added face: its loop
+  std::vector<char> bad(loops.size(), 0);
   for (const std::vector<int>& loop : loops) {
-    if (loop.size() < 3) return trouble = loop, -1;
+    const std::size_t l = static_cast<std::size_t>(&loop - loops.data());
+    if (loop.size() < 3) {
+      bad[l] = 1;
+      continue;
+    }
     std::vector<IPoint> pts;
     for (int v : loop) pts.emplace_back(V[v].x(), V[v].y(), V[v].z());
     std::vector<CGAL::Triple<int, int, int>> patch;
     CGAL::Polygon_mesh_processing::triangulate_hole_polyline(pts, std::back_inserter(patch));
-    if (patch.size() != loop.size() - 2) return trouble = loop, -1;
+    if (patch.size() != loop.size() - 2) {
+      bad[l] = 1;
+      continue;
+    }
     // CGAL's triangles (i, j, k), i < j < k, run along the loop; the faces next to the loop
     // run along it too, so the filling faces are reversed.
     for (const auto& x : patch) {
       added.push_back({{loop[x.first], loop[x.third], loop[x.second]}});
-      loop_of.push_back(static_cast<int>(&loop - loops.data()));
+      loop_of.push_back(static_cast<int>(l));
     }
   }
   // Every edge of a filling face must end up with exactly two faces, one each way (a diagonal
@@ -1262,7 +1276,7 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
       const std::uint64_t key = edgeKey(added[f][k], added[f][(k + 1) % 3]);
       const auto u = std::lower_bound(use.begin(), use.end(), key,
                                       [](const EdgeUse& e, std::uint64_t x) { return e.key < x; });
-      if (u->faces != 2 || u->net != 0) return trouble = loops[loop_of[f]], -1;
+      if (u->faces != 2 || u->net != 0) bad[loop_of[f]] = 1;
     }
   // Least-area filling sees only its loop: a filling face must not cross the rest of the
   // surface nor another filling face (exact predicates on the double coordinates, as the
@@ -1279,7 +1293,6 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
       return out;
     };
     std::vector<Box> added_boxes = boxes(added), surface_boxes = boxes(T);
-    std::vector<char> bad(loops.size(), 0);
     CGAL::box_intersection_d(added_boxes.begin(), added_boxes.end(), surface_boxes.begin(), surface_boxes.end(),
                              [&](const Box& a, const Box& b) {
                                if (crosses(P, added[a.info()], T[b.info()])) bad[loop_of[a.info()]] = 1;
@@ -1287,9 +1300,8 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
     CGAL::box_self_intersection_d(added_boxes.begin(), added_boxes.end(), [&](const Box& a, const Box& b) {
       if (crosses(P, added[a.info()], added[b.info()])) bad[loop_of[a.info()]] = bad[loop_of[b.info()]] = 1;
     });
-    trouble.clear();
     for (std::size_t l = 0; l < loops.size(); ++l)
-      if (bad[l]) trouble.insert(trouble.end(), loops[l].begin(), loops[l].end());
+      if (bad[l]) fail(loops[l]);
     if (!trouble.empty()) return -1;
   }
   T.insert(T.end(), added.begin(), added.end());
