@@ -383,6 +383,24 @@ Mesh bundledBracket() {
   return Mesh{t.vertices, t.faces};
 }
 
+// The envelope is closed, manifold, oriented, free of self-intersections, one shell, and
+// encloses a positive volume.
+void expectOneEmbeddedShell(const Envelope& env) {
+  const MeshCheck mc = inspectMesh(env.vertices, env.triangles, true);
+  EXPECT_TRUE(mc.closed);
+  EXPECT_TRUE(mc.manifold);
+  EXPECT_TRUE(mc.oriented);
+  EXPECT_EQ(mc.self_intersections, 0);
+  EXPECT_EQ(mc.shells, 1);
+  EXPECT_GT(mc.volume, 0);
+}
+
+// The end pose of one span of the bracket's screw about the z axis, which lies in its upright's
+// back face: a quarter turn while rising 2.5 and scaling by 1.2.
+Affine3 bracketQuarterTurn() {
+  return Affine3::translation(V(0, 0, 2.5)) * Affine3::rotation(V(0, 0, 1), M_PI / 2) * Affine3::scaling(V(1.2, 1.2, 1.2));
+}
+
 // The README's main command: the bracket (non-convex, two plates with holes, genus 2) along the
 // bundled growing screw, two SAM spans joined at a pose where both spans leave caps.
 TEST(Envelope, BundledBracketOnTheGrowingScrew) {
@@ -421,18 +439,11 @@ TEST(Envelope, FaceThroughTheScrewAxis) {
 // vertices: the output must be closed, manifold and free of self-intersections.
 TEST(Envelope, FaceThroughTheScrewAxisOnAPolySamIsClosedAndEmbedded) {
   const Mesh m = bundledBracket();
-  const Affine3 quarter = Affine3::translation(V(0, 0, 2.5)) * Affine3::rotation(V(0, 0, 1), M_PI / 2) *
-                          Affine3::scaling(V(1.2, 1.2, 1.2));
+  const Affine3 quarter = bracketQuarterTurn();
   const Motion3 motion = Motion3::polySam(std::vector<Affine3>{Affine3(), quarter, quarter * quarter});
   const Envelope env = sweep(m, motion);
   EXPECT_EQ(env.cycle_open_edges, 0u);
-  const MeshCheck mc = inspectMesh(env.vertices, env.triangles, true);
-  EXPECT_TRUE(mc.closed);
-  EXPECT_TRUE(mc.manifold);
-  EXPECT_TRUE(mc.oriented);
-  EXPECT_EQ(mc.self_intersections, 0);
-  EXPECT_EQ(mc.shells, 1);
-  EXPECT_GT(mc.volume, 0);
+  expectOneEmbeddedShell(env);
   EXPECT_EQ(directedEdgeFaults(env.triangles, env.vertices.size()), "");
 }
 
@@ -450,17 +461,11 @@ TEST(Envelope, FaceThroughTheScrewAxisOnAPolySamIsClosedAndEmbedded) {
 // resolution, as in checkEnvelope), and the whole output is closed, manifold and embedded.
 TEST(Envelope, CrackAlongTheBracketHoleOnAQuarterTurn) {
   const Mesh m = bundledBracket();
-  const Affine3 quarter = Affine3::translation(V(0, 0, 2.5)) * Affine3::rotation(V(0, 0, 1), M_PI / 2) *
-                          Affine3::scaling(V(1.2, 1.2, 1.2));
+  const Affine3 quarter = bracketQuarterTurn();
   const Motion3 motion = single(Affine3(), quarter);
   const auto t0 = std::chrono::steady_clock::now();
   const Envelope env = sweep(m, motion);
-  const MeshCheck mc = inspectMesh(env.vertices, env.triangles, true);
-  EXPECT_TRUE(mc.closed);
-  EXPECT_TRUE(mc.manifold);
-  EXPECT_TRUE(mc.oriented);
-  EXPECT_EQ(mc.self_intersections, 0);
-  EXPECT_EQ(mc.shells, 1);
+  expectOneEmbeddedShell(env);
   EXPECT_GT(env.crack_faces_removed, 0u);
   const double eps = env.tolerance;
   const double T = eps * 1.01;
@@ -507,8 +512,7 @@ TEST(Envelope, CrackAlongTheBracketHoleOnAQuarterTurn) {
 // surface). The same corner in the first span is removed.
 TEST(Envelope, FaceThroughTheScrewAxisOnAPolySam) {
   const Mesh m = bundledBracket();
-  const Affine3 quarter = Affine3::translation(V(0, 0, 2.5)) * Affine3::rotation(V(0, 0, 1), M_PI / 2) *
-                          Affine3::scaling(V(1.2, 1.2, 1.2));
+  const Affine3 quarter = bracketQuarterTurn();
   const Motion3 motion = Motion3::polySam(std::vector<Affine3>{Affine3(), quarter, quarter * quarter});
   const Envelope env = sweep(m, motion);
   std::mt19937_64 rng(44);
