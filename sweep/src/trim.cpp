@@ -626,7 +626,9 @@ std::size_t snapVertices(std::vector<Vec>& V, std::vector<Tri>& T) {
   const double delta = kSnap * std::max((hi - lo).norm(), 1e-300);
   struct Hash {
     std::size_t operator()(const std::array<long long, 3>& c) const {
-      return static_cast<std::size_t>(c[0] * 73856093LL ^ c[1] * 19349663LL ^ c[2] * 83492791LL);
+      // (in unsigned arithmetic: cell indices reach 1e13, whose products overflow a signed type)
+      const auto u = [](long long x) { return static_cast<unsigned long long>(x); };
+      return static_cast<std::size_t>(u(c[0]) * 73856093ULL ^ u(c[1]) * 19349663ULL ^ u(c[2]) * 83492791ULL);
     }
   };
   auto cell = [&](const Vec& x) {
