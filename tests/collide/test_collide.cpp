@@ -80,18 +80,8 @@ TEST(Collide, FineMeshesOnLongMotionsKeepTheExactFirstContact) {
   // Seeded motions: turns of 1 to 3 radians about random axes while sinking by 0.4 to 0.7; every
   // other one adds a shear and an anisotropic scaling.
   std::mt19937_64 rng(8675309);
-  std::uniform_real_distribution<double> u(-1, 1);
   std::vector<std::pair<Affine3, Affine3>> motions;
-  for (int k = 0; k < 12; ++k) {
-    const Affine3 B = Affine3::translation(V(0.3 * u(rng), 0.3 * u(rng), 0.9)) * Affine3::rotation(V(u(rng), u(rng), 1), u(rng));
-    Affine3 L = Affine3::rotation(V(u(rng), u(rng), u(rng)), 2 + u(rng));
-    if (k % 2 == 1) {
-      Eigen::Matrix3d shear = Eigen::Matrix3d::Identity();
-      shear(0, 2) = 0.3 * u(rng);
-      L = L * Affine3(shear, V::Zero()) * Affine3::scaling(V(1.2 + 0.2 * u(rng), 0.8 + 0.1 * u(rng), 1 + 0.2 * u(rng)));
-    }
-    motions.emplace_back(B, Affine3::translation(V(0.5 * u(rng), 0.5 * u(rng), -0.55 + 0.15 * u(rng))) * L * B);
-  }
+  for (int k = 0; k < 12; ++k) motions.push_back(steady_test::randomSinking(rng, k % 2 == 1));
   for (std::size_t k = 0; k < motions.size(); ++k) {
     const Motion3 motion = Motion3::polySam(std::vector<Affine3>{motions[k].first, motions[k].second});
     const double oracle = steady_test::firstPlaneCrossing(motion, ball.v);
@@ -314,14 +304,8 @@ void randomScenes(bool both_moving, int trials, std::uint64_t seed) {
     const Mesh moving = trial % 3 ? octahedron(V(0, 0, 0), 0.6) : box(V(-0.5, -0.3, -0.4), V(0.4, 0.5, 0.3));
     // Start 2.5 away in a random direction, end near the other side, with a random turn and
     // shear/scale.
-    const V dir = V(U(rng), U(rng), U(rng)).normalized();
-    const Affine3 B = Affine3::translation(2.5 * dir) * Affine3::rotation(V(U(rng), U(rng), U(rng)), 3 * U(rng));
-    Eigen::Matrix3d L = Eigen::Matrix3d::Identity();
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) L(i, j) += 0.25 * U(rng);
-    const Affine3 C = Affine3(L, -1.5 * dir + 0.8 * V(U(rng), U(rng), U(rng))) *
-                      Affine3::rotation(V(U(rng), U(rng), U(rng)), 3 * U(rng));
-    if (L.determinant() <= 0 || !steady::samExists(B, C)) continue;
+    Affine3 B, C;
+    if (!steady_test::randomApproach(rng, false, B, C)) continue;
     std::vector<Affine3> keys{B, C};
     if (trial % 4 == 0) keys.insert(keys.begin() + 1, steady::sam(B, 0.5, C) * Affine3::rotation(V(0, 0, 1), 0.5));
     const Motion3 motion = Motion3::polySam(keys, split);
@@ -390,21 +374,14 @@ void randomScenes(bool both_moving, int trials, std::uint64_t seed) {
 
 TEST(CollideOracle, StaticSceneFirstContactAgreesWithSampling) {
   std::mt19937_64 rng(2718281828);
-  std::uniform_real_distribution<double> U(-1.0, 1.0);
   int contacts = 0, none = 0, earlier = 0;
   double worst = 0;
   for (int trial = 0; trial < 500; ++trial) {
     const Mesh fixed = trial % 2 ? octahedron(V(0, 0, 0), 1.0) : box(V(-0.8, -0.6, -0.7), V(0.7, 0.9, 0.6));
     const Mesh moving = trial % 3 ? octahedron(V(0, 0, 0), 0.6) : box(V(-0.5, -0.3, -0.4), V(0.4, 0.5, 0.3));
     const StaticScene scene(fixed.v, fixed.f);
-    const V dir = V(U(rng), U(rng), U(rng)).normalized();
-    const Affine3 B = Affine3::translation(2.5 * dir) * Affine3::rotation(V(U(rng), U(rng), U(rng)), 3 * U(rng));
-    Eigen::Matrix3d L = Eigen::Matrix3d::Identity();
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) L(i, j) += 0.25 * U(rng);
-    const Affine3 C = Affine3(L, -1.5 * dir + 0.8 * V(U(rng), U(rng), U(rng))) *
-                      Affine3::rotation(V(U(rng), U(rng), U(rng)), 3 * U(rng));
-    if (L.determinant() <= 0 || !steady::samExists(B, C)) continue;
+    Affine3 B, C;
+    if (!steady_test::randomApproach(rng, false, B, C)) continue;
     const Motion3 motion = Motion3::polySam(std::vector<Affine3>{B, C});
     const auto got = scene.firstContact(moving.v, moving.f, motion);
     const int N = 1000;

@@ -95,7 +95,6 @@ TEST(CollidePrepared, NearMissAndNearHit) {
 // found by the other), and the first contact with the sampling oracle is never late.
 TEST(CollidePrepared, AgreesWithThePlainQueriesOnRandomScenes) {
   std::mt19937_64 rng(16180339);
-  std::uniform_real_distribution<double> U(-1.0, 1.0);
   int compared = 0, hits = 0;
   for (int trial = 0; trial < 300; ++trial) {
     const Mesh fixed = trial % 3 == 0 ? octahedron(V(0, 0, 0), 1.0)
@@ -104,15 +103,8 @@ TEST(CollidePrepared, AgreesWithThePlainQueriesOnRandomScenes) {
     const Mesh moving = trial % 2 ? octahedron(V(0, 0, 0), 0.6) : box(V(-0.5, -0.3, -0.4), V(0.4, 0.5, 0.3));
     const StaticScene scene(fixed.v, fixed.f);
     const PreparedMesh prepared(moving.v, moving.f);
-    const V dir = V(U(rng), U(rng), U(rng)).normalized();
-    const Affine3 B = Affine3::translation(2.5 * dir) * Affine3::rotation(V(U(rng), U(rng), U(rng)), 3 * U(rng));
-    Eigen::Matrix3d L = Eigen::Matrix3d::Identity();
-    if (trial % 4 != 0)  // every fourth motion rigid (a screw)
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) L(i, j) += 0.25 * U(rng);
-    const Affine3 C = Affine3(L, -1.5 * dir + 0.8 * V(U(rng), U(rng), U(rng))) *
-                      Affine3::rotation(V(U(rng), U(rng), U(rng)), 3 * U(rng));
-    if (L.determinant() <= 0 || !steady::samExists(B, C)) continue;
+    Affine3 B, C;
+    if (!steady_test::randomApproach(rng, trial % 4 == 0, B, C)) continue;  // every fourth rigid (a screw)
     std::vector<Affine3> keys{B, C};
     if (trial % 5 == 0) keys.insert(keys.begin() + 1, steady::sam(B, 0.5, C) * Affine3::rotation(V(0, 0, 1), 0.4));
     const steady::MotionOptions split{{}, steady::NoSamPolicy::Split, 12};
@@ -156,16 +148,8 @@ TEST(CollidePrepared, FineMeshesOnLongMotionsKeepTheExactFirstContact) {
   const Mesh ball = uvSphere(24, 48, 0.5);
   const PreparedMesh prepared(ball.v, ball.f);
   std::mt19937_64 rng(4815162342);
-  std::uniform_real_distribution<double> u(-1, 1);
   for (int k = 0; k < 12; ++k) {
-    const Affine3 B = Affine3::translation(V(0.3 * u(rng), 0.3 * u(rng), 0.9)) * Affine3::rotation(V(u(rng), u(rng), 1), u(rng));
-    Affine3 L = Affine3::rotation(V(u(rng), u(rng), u(rng)), 2 + u(rng));
-    if (k % 2 == 1) {
-      Eigen::Matrix3d shear = Eigen::Matrix3d::Identity();
-      shear(0, 2) = 0.3 * u(rng);
-      L = L * Affine3(shear, V::Zero()) * Affine3::scaling(V(1.2 + 0.2 * u(rng), 0.8 + 0.1 * u(rng), 1 + 0.2 * u(rng)));
-    }
-    const Affine3 C = Affine3::translation(V(0.5 * u(rng), 0.5 * u(rng), -0.55 + 0.15 * u(rng))) * L * B;
+    const auto [B, C] = steady_test::randomSinking(rng, k % 2 == 1);
     const Motion3 motion = Motion3::polySam(std::vector<Affine3>{B, C});
     const double oracle = steady_test::firstPlaneCrossing(motion, ball.v);
     ASSERT_LT(oracle, 1.0) << "motion " << k;
