@@ -1139,7 +1139,10 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
   // centroid, 1-3 the corners).
   constexpr int kOrigins = 4;
   std::vector<Vec> empty_normal(nf, Vec::Zero());
-  std::vector<std::array<Vec, kOrigins>> origin(nf);
+  auto origin = [&](std::size_t f, int k) {
+    const Tri& t = A.faces[f];
+    return k == 0 ? Vec((vec(t[0]) + vec(t[1]) + vec(t[2])) / 3.0) : vec(t[k - 1]);
+  };
   std::vector<Box> walls, probes;
   for (std::size_t f = 0; f < nf; ++f) {
     const int p = L.patch[f];
@@ -1156,19 +1159,18 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
     empty_normal[f] = side * n.normalized();
     walls.emplace_back(P[t[0]].bbox() + P[t[1]].bbox() + P[t[2]].bbox(), f);
     if (buried[p]) continue;
-    origin[f] = {{(a + b + c) / 3.0, a, b, c}};
     for (int k = 0; k < kOrigins; ++k)
-      probes.emplace_back(ipoint(origin[f][k]).bbox() + ipoint(origin[f][k] + kBuriedProbe * eps_t * empty_normal[f]).bbox(),
+      probes.emplace_back(ipoint(origin(f, k)).bbox() + ipoint(origin(f, k) + kBuriedProbe * eps_t * empty_normal[f]).bbox(),
                           kOrigins * f + k);
   }
-  auto probeEnd = [&](std::size_t f, int k) { return origin[f][k] + kBuriedProbe * eps_t * empty_normal[f]; };
+  auto probeEnd = [&](std::size_t f, int k) { return Vec(origin(f, k) + kBuriedProbe * eps_t * empty_normal[f]); };
   std::vector<unsigned char> met(nf, 0);  // per face: bit k set when probe k meets a facing wall
   CGAL::box_intersection_d(probes.begin(), probes.end(), walls.begin(), walls.end(), [&](const Box& pb, const Box& wb) {
     const std::size_t f = pb.info() / kOrigins, g = wb.info();
     const int k = static_cast<int>(pb.info() % kOrigins);
     if (f == g || (met[f] >> k & 1) || empty_normal[f].dot(empty_normal[g]) > kFacing) return;
     const Tri& t = A.faces[g];
-    if (CGAL::do_intersect(IK::Segment_3(ipoint(origin[f][k]), ipoint(probeEnd(f, k))),
+    if (CGAL::do_intersect(IK::Segment_3(ipoint(origin(f, k)), ipoint(probeEnd(f, k))),
                            IK::Triangle_3(P[t[0]], P[t[1]], P[t[2]])))
       met[f] |= static_cast<unsigned char>(1u << k);
   });
