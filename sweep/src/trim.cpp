@@ -212,10 +212,10 @@ void mergeCoincident(Arrangement& A) {
   }
 }
 
-// A constraint inside one triangle: a segment (a != b) or a point (a == b).
+// A constraint inside one triangle: a segment between two points of the arrangement (indices
+// into Arrangement::points, a != b), or a single point (a == b).
 struct Constraint {
-  EPoint a, b;
-  bool point;
+  int a, b;
 };
 
 struct VertexInfo {
@@ -226,25 +226,64 @@ using Fb = CGAL::Constrained_triangulation_face_base_2<EK>;
 using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
 using CDT = CGAL::Constrained_Delaunay_triangulation_2<EK, Tds, CGAL::Exact_intersections_tag>;
 
-// The crossing of two triangles s and t that share exactly one vertex v and do not lie in one
-// plane, when it needs no general intersection: their intersection is a segment of the line
-// where their planes meet, from v to where that line leaves s or t first. It leaves s through
-// the edge opposite v; if that edge crosses t's plane strictly (its ends strictly on either
-// side) at a point X of t, the segment is [v, X] (X lies in s and t, and the line meets t in
-// no more than [v, X]), and likewise with s and t swapped. Returns false in every other case
-// (an end on the other plane, coplanar triangles), which the general exact intersection handles. The point X is an exact expression in the input points, built
-// lazily: unlike the general intersection, whose interval evaluation is never certain at the
-// shared vertex and so falls back to exact rationals at once, it is evaluated exactly only if
-// a later predicate needs it.
+// A point where the edge (a, b) of one triangle crosses the interior of another triangle,
+// `tri` (an index into the arrangement's triangles), named by these three numbers. Two
+// triangles that share the edge and cross `tri` there name the same point the same way, so
+// it is built and identified once, without comparing exact points.
+struct Cut {
+  int a, b, tri;
+};
+
+// The crossing of two triangles s and t (numbers i and j in T) that share no vertex, in general
+// position: no vertex of either on the other's plane, and no edge of either that crosses the
+// other's plane lying in one plane with an edge of the other. Their intersection is then a
+// segment whose two ends are each an edge of one triangle crossing the interior of the other;
+// these are found with orientation predicates on the input points alone, and no intersection
+// is constructed. Returns false in every other case, which the general exact intersection
+// handles.
 template <class Point>
-bool sharedVertexCrossing(const std::vector<Point>& P, const std::vector<EPoint>& EP, const Tri& s, const Tri& t,
-                          int v, Constraint& out) {
+bool generalCrossing(const std::vector<Point>& P, const std::vector<Tri>& T, int i, int j, Cut out[2]) {
+  int found = 0;
+  // The edges of triangle x (number xi) that cross the interior of triangle y (number yi).
+  auto scan = [&](int xi, int yi) {
+    const Tri &x = T[xi], &y = T[yi];
+    CGAL::Orientation o[3];
+    for (int k = 0; k < 3; ++k)
+      if ((o[k] = CGAL::orientation(P[y[0]], P[y[1]], P[y[2]], P[x[k]])) == CGAL::COPLANAR) return false;
+    for (int k = 0; k < 3; ++k) {
+      if (o[k] == o[(k + 1) % 3]) continue;
+      const int a = x[k], b = x[(k + 1) % 3];
+      // The edge's ends lie strictly on either side of y's plane; its line crosses y's
+      // interior iff it turns the same way around the three edges of y.
+      CGAL::Orientation q[3];
+      for (int e = 0; e < 3; ++e)
+        if ((q[e] = CGAL::orientation(P[a], P[b], P[y[e]], P[y[(e + 1) % 3]])) == CGAL::COPLANAR) return false;
+      if (q[0] != q[1] || q[1] != q[2]) continue;
+      if (found == 2) return false;
+      out[found++] = {a, b, yi};
+    }
+    return true;
+  };
+  return scan(i, j) && scan(j, i) && found == 2;
+}
+
+// The crossing of two triangles s and t (numbers i and j in T) that share exactly one vertex v
+// and do not lie in one plane, when it needs no general intersection: their intersection is a
+// segment of the line where their planes meet, from v to where that line leaves s or t first.
+// It leaves s through the edge opposite v; if that edge crosses t's plane strictly (its ends
+// strictly on either side) at a point X of t, the segment is [v, X] (X lies in s and t, and the
+// line meets t in no more than [v, X]), and likewise with s and t swapped. Sets `cut` to the
+// edge and triangle that name X. Returns false in every other case (an end on the other
+// plane, coplanar triangles), which the general exact intersection handles.
+template <class Point>
+bool sharedVertexCrossing(const std::vector<Point>& P, const std::vector<Tri>& T, int i, int j, int v, Cut& cut) {
   using K = typename CGAL::Kernel_traits<Point>::Kernel;
   auto opposite = [&](const Tri& x, int* o) {
     int k = 0;
     for (int w : x)
       if (w != v) o[k++] = w;
   };
+  const Tri &s = T[i], &t = T[j];
   int os[2], ot[2];
   opposite(s, os);
   opposite(t, ot);
@@ -257,35 +296,41 @@ bool sharedVertexCrossing(const std::vector<Point>& P, const std::vector<EPoint>
     using Triangle = typename K::Triangle_3;
     return CGAL::do_intersect(Segment(P[e[0]], P[e[1]]), Triangle(P[x[0]], P[x[1]], P[x[2]]));
   };
-  auto crossing = [&](const int* e, const Tri& x) {
-    const EPoint &a = EP[e[0]], &b = EP[e[1]], &p = EP[x[0]];
-    const EK::Vector_3 n = CGAL::cross_product(EP[x[1]] - p, EP[x[2]] - p);
-    const EK::FT da = n * (a - p), db = n * (b - p);
-    return a + (b - a) * (da / (da - db));
-  };
   if (through(os, t)) {
-    out = {EP[v], crossing(os, t), false};
+    cut = {os[0], os[1], j};
     return true;
   }
   if (through(ot, s)) {
-    out = {EP[v], crossing(ot, s), false};
+    cut = {ot[0], ot[1], i};
     return true;
   }
   return false;
 }
 
-template <class Result>
-void addConstraints(const Result& x, std::vector<Constraint>& into) {
+// The point where the line through a and b meets the plane through p, q, r (exact, built
+// lazily: it is evaluated in rationals only if a later predicate needs it, and then in a few
+// operations on the input points).
+EPoint linePlanePoint(const EPoint& a, const EPoint& b, const EPoint& p, const EPoint& q, const EPoint& r) {
+  const EK::Vector_3 n = CGAL::cross_product(q - p, r - p);
+  const EK::FT da = n * (a - p), db = n * (b - p);
+  return a + (b - a) * (da / (da - db));
+}
+
+template <class Result, class PointId>
+void addConstraints(const Result& x, std::vector<Constraint>& into, PointId&& pointId) {
   if (!x) return;
   if (const EPoint* p = boost::get<EPoint>(&*x)) {
-    into.push_back({*p, *p, true});
+    const int a = pointId(*p);
+    into.push_back({a, a});
   } else if (const EK::Segment_3* s = boost::get<EK::Segment_3>(&*x)) {
-    into.push_back({s->source(), s->target(), false});
+    into.push_back({pointId(s->source()), pointId(s->target())});
   } else if (const EK::Triangle_3* t = boost::get<EK::Triangle_3>(&*x)) {
-    for (int k = 0; k < 3; ++k) into.push_back({t->vertex(k), t->vertex(k + 1), false});
+    const int v[3] = {pointId(t->vertex(0)), pointId(t->vertex(1)), pointId(t->vertex(2))};
+    for (int k = 0; k < 3; ++k) into.push_back({v[k], v[(k + 1) % 3]});
   } else if (const auto* poly = boost::get<std::vector<EPoint>>(&*x)) {
-    for (std::size_t k = 0; k < poly->size(); ++k)
-      into.push_back({(*poly)[k], (*poly)[(k + 1) % poly->size()], false});
+    std::vector<int> v;
+    for (const EPoint& q : *poly) v.push_back(pointId(q));
+    for (std::size_t k = 0; k < v.size(); ++k) into.push_back({v[k], v[(k + 1) % v.size()]});
   }
 }
 
@@ -342,43 +387,66 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   }
 
   // Crossing pairs (boxes of the exact points' interval approximations) and their exact
-  // intersections.
+  // intersections. Every point gets its number when it is made: points are identified by exact
+  // equality (the map's comparisons are exact only where the interval filter fails, that is
+  // for equal or nearly equal points), and cut points by their names first.
   const auto pairs = boxPairs(ep, T);
   Arrangement out;
   out.points = ep;
+  std::map<EPoint, int> index;
+  for (std::size_t v = 0; v < ep.size(); ++v) index.emplace(ep[v], static_cast<int>(v));
+  auto pointId = [&](const EPoint& p) {
+    auto [it, added] = index.emplace(p, static_cast<int>(out.points.size()));
+    if (added) out.points.push_back(p);
+    return it->second;
+  };
+  struct CutHash {
+    std::size_t operator()(const std::pair<std::uint64_t, int>& k) const {
+      return std::hash<std::uint64_t>()(k.first * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint64_t>(k.second));
+    }
+  };
+  std::unordered_map<std::pair<std::uint64_t, int>, int, CutHash> cut_points;
+  auto cutPoint = [&](const Cut& c) {
+    auto [it, added] = cut_points.emplace(std::make_pair(edgeKey(c.a, c.b), c.tri), -1);
+    if (added) {
+      const Tri& y = T[c.tri];
+      it->second = pointId(linePlanePoint(ep[c.a], ep[c.b], ep[y[0]], ep[y[1]], ep[y[2]]));
+    }
+    return it->second;
+  };
   std::vector<std::vector<Constraint>> cons(T.size());
-  const auto& EP = out.points;
   std::size_t done = 0;
   for (const auto& [i, j] : pairs) {
     if (options.progress && ++done % 4096 == 0)
       options.progress({"intersect", 0.5 * static_cast<double>(done) / static_cast<double>(pairs.size())});
     const bool plain_pair = plain(T[i]) && plain(T[j]);
     if (plain_pair ? !crosses(ip, T[i], T[j]) : !crosses(ep, T[i], T[j])) continue;
+    ++out.crossing_pairs;
     int sv[3];
-    Constraint c;
-    if (shared(T[i], T[j], sv) == 1 && (plain_pair ? sharedVertexCrossing(ip, EP, T[i], T[j], sv[0], c)
-                                                   : sharedVertexCrossing(ep, EP, T[i], T[j], sv[0], c))) {
+    const int n = shared(T[i], T[j], sv);
+    Cut cut[2];
+    Constraint c{-1, -1};
+    if (n == 1 && (plain_pair ? sharedVertexCrossing(ip, T, i, j, sv[0], cut[0])
+                              : sharedVertexCrossing(ep, T, i, j, sv[0], cut[0])))
+      c = {sv[0], cutPoint(cut[0])};
+    else if (n == 0 && (plain_pair ? generalCrossing(ip, T, i, j, cut) : generalCrossing(ep, T, i, j, cut)))
+      c = {cutPoint(cut[0]), cutPoint(cut[1])};
+    if (c.a >= 0) {
       cons[i].push_back(c);
       cons[j].push_back(c);
-      ++out.crossing_pairs;
       continue;
     }
-    const EK::Triangle_3 a(EP[T[i][0]], EP[T[i][1]], EP[T[i][2]]), b(EP[T[j][0]], EP[T[j][1]], EP[T[j][2]]);
+    const EK::Triangle_3 a(ep[T[i][0]], ep[T[i][1]], ep[T[i][2]]), b(ep[T[j][0]], ep[T[j][1]], ep[T[j][2]]);
     const auto x = CGAL::intersection(a, b);
     const std::size_t before_i = cons[i].size();
-    addConstraints(x, cons[i]);
+    addConstraints(x, cons[i], pointId);
     cons[j].insert(cons[j].end(), cons[i].begin() + static_cast<std::ptrdiff_t>(before_i), cons[i].end());
-    ++out.crossing_pairs;
   }
+  cut_points = {};
 
-  // Re-triangulate every crossed triangle; points are identified by exact equality.
-  std::map<EPoint, int> index;
-  for (std::size_t v = 0; v < EP.size(); ++v) index.emplace(EP[v], static_cast<int>(v));
-  auto pointId = [&](const EPoint& p) {
-    auto [it, added] = index.emplace(p, static_cast<int>(out.points.size()));
-    if (added) out.points.push_back(p);
-    return it->second;
-  };
+  // Re-triangulate every crossed triangle. The points of the constraints carry their numbers
+  // into the triangulation; only the points it makes where constraints cross are lifted back
+  // onto the triangle's plane and identified.
   for (std::size_t t = 0; t < T.size(); ++t) {
     if (options.progress && t % 4096 == 0)
       options.progress({"intersect", 0.5 + 0.5 * static_cast<double>(t) / static_cast<double>(T.size())});
@@ -400,12 +468,17 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
     auto project = [&](const EPoint& p) { return EK::Point_2(p[k1], p[k2]); };
     CDT cdt;
     const int corner[3] = {T[t][0], T[t][1], T[t][2]};
-    for (int c = 0; c < 3; ++c) cdt.insert(project(out.points[corner[c]]))->info().id = corner[c];
+    // Distinct numbers are distinct points of the plane, so distinct vertices.
+    std::unordered_map<int, CDT::Vertex_handle> vertex_of;
+    auto vertex = [&](int id) {
+      auto [it, added] = vertex_of.emplace(id, CDT::Vertex_handle());
+      if (added) (it->second = cdt.insert(project(out.points[id])))->info().id = id;
+      return it->second;
+    };
+    for (int c = 0; c < 3; ++c) vertex(corner[c]);
     for (const Constraint& c : cons[t]) {
-      if (c.point)
-        cdt.insert(project(c.a));
-      else if (c.a != c.b)
-        cdt.insert_constraint(project(c.a), project(c.b));
+      const auto va = vertex(c.a);
+      if (c.b != c.a) cdt.insert_constraint(va, vertex(c.b));
     }
     for (auto v : cdt.finite_vertex_handles()) {
       if (v->info().id >= 0) continue;
