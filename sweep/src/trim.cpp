@@ -517,19 +517,25 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
   const std::size_t nf = T.size();
   Labels L;
 
-  // Patches: faces joined across edges with exactly two faces in opposite directions.
-  std::unordered_map<std::uint64_t, std::vector<int>> edge_faces;  // signed: face + 1, or -(face + 1)
-  edge_faces.reserve(3 * nf);
+  // Patches: faces joined across edges with exactly two faces in opposite directions. The
+  // face sides of every edge (edge, signed face: face + 1 when the face runs the edge from
+  // its smaller vertex, -(face + 1) otherwise), sorted by edge.
+  std::vector<std::pair<std::uint64_t, int>> sides;
+  sides.reserve(3 * nf);
   for (std::size_t f = 0; f < nf; ++f)
     for (int c = 0; c < 3; ++c) {
       const int a = T[f][c], b = T[f][(c + 1) % 3];
-      edge_faces[edgeKey(a, b)].push_back(a < b ? static_cast<int>(f) + 1 : -static_cast<int>(f) - 1);
+      sides.emplace_back(edgeKey(a, b), a < b ? static_cast<int>(f) + 1 : -static_cast<int>(f) - 1);
     }
+  std::sort(sides.begin(), sides.end());
   std::vector<int> parent(nf);
   std::iota(parent.begin(), parent.end(), 0);
-  for (const auto& [key, list] : edge_faces)
-    if (list.size() == 2 && (list[0] > 0) != (list[1] > 0))
-      parent[findRoot(parent, std::abs(list[0]) - 1)] = findRoot(parent, std::abs(list[1]) - 1);
+  for (std::size_t i = 0, j = 0; i < sides.size(); i = j) {
+    while (j < sides.size() && sides[j].first == sides[i].first) ++j;
+    if (j - i == 2 && (sides[i].second > 0) != (sides[i + 1].second > 0))
+      parent[findRoot(parent, std::abs(sides[i].second) - 1)] = findRoot(parent, std::abs(sides[i + 1].second) - 1);
+  }
+  sides = {};
   L.patch.assign(nf, -1);
   std::vector<int> rep;  // per patch: its largest face (approximate area)
   std::vector<double> rep_area;
