@@ -136,16 +136,18 @@ bool crosses(const std::vector<Point>& P, const Tri& s, const Tri& t) {
   return CGAL::do_intersect(Triangle(P[s[0]], P[s[1]], P[s[2]]), Triangle(P[t[0]], P[t[1]], P[t[2]]));
 }
 
-// Candidate pairs: triangles whose (closed) boxes meet.
-template <class Point>
-std::vector<std::pair<int, int>> boxPairs(const std::vector<Point>& P, const std::vector<Tri>& T) {
+// The pairs of triangles whose (closed) boxes meet and that pass `keep(i, j)`, in the order
+// CGAL reports them (the candidates are tested as they come: a large mesh has tens of millions).
+template <class Point, class Keep>
+std::vector<std::pair<int, int>> boxPairs(const std::vector<Point>& P, const std::vector<Tri>& T, Keep&& keep) {
   std::vector<Box> boxes;
   boxes.reserve(T.size());
   for (std::size_t i = 0; i < T.size(); ++i)
     boxes.emplace_back(P[T[i][0]].bbox() + P[T[i][1]].bbox() + P[T[i][2]].bbox(), i);
   std::vector<std::pair<int, int>> pairs;
   CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
-    pairs.emplace_back(static_cast<int>(a.info()), static_cast<int>(b.info()));
+    const int i = static_cast<int>(a.info()), j = static_cast<int>(b.info());
+    if (keep(i, j)) pairs.emplace_back(i, j);
   });
   return pairs;
 }
@@ -390,7 +392,9 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   // intersections. Every point gets its number when it is made: points are identified by exact
   // equality (the map's comparisons are exact only where the interval filter fails, that is
   // for equal or nearly equal points), and cut points by their names first.
-  const auto pairs = boxPairs(ep, T);
+  const auto pairs = boxPairs(ep, T, [&](int i, int j) {
+    return plain(T[i]) && plain(T[j]) ? crosses(ip, T[i], T[j]) : crosses(ep, T[i], T[j]);
+  });
   Arrangement out;
   out.points = ep;
   std::map<EPoint, int> index;
@@ -420,8 +424,6 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
     if (options.progress && ++done % 4096 == 0)
       options.progress({"intersect", 0.5 * static_cast<double>(done) / static_cast<double>(pairs.size())});
     const bool plain_pair = plain(T[i]) && plain(T[j]);
-    if (plain_pair ? !crosses(ip, T[i], T[j]) : !crosses(ep, T[i], T[j])) continue;
-    ++out.crossing_pairs;
     int sv[3];
     const int n = shared(T[i], T[j], sv);
     Cut cut[2];
@@ -443,6 +445,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
     cons[j].insert(cons[j].end(), cons[i].begin() + static_cast<std::ptrdiff_t>(before_i), cons[i].end());
   }
   cut_points = {};
+  out.crossing_pairs = pairs.size();
 
   // Re-triangulate every crossed triangle. The points of the constraints carry their numbers
   // into the triangulation; only the points it makes where constraints cross are lifted back
@@ -1100,9 +1103,8 @@ void computeCheck(MeshCheck& c, const std::vector<Vec>& V, const std::vector<Tri
   }
   c.self_intersections = -1;
   if (self) {
-    long count = 0;
-    for (const auto& [i, j] : boxPairs(P, T)) count += !flat[i] && !flat[j] && crosses(P, T[i], T[j]);
-    c.self_intersections = count;
+    c.self_intersections = static_cast<long>(
+        boxPairs(P, T, [&](int i, int j) { return !flat[i] && !flat[j] && crosses(P, T[i], T[j]); }).size());
   }
 }
 
@@ -1238,20 +1240,26 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
     empty_normal[f] = side * n.normalized();
     walls.emplace_back(P[t[0]].bbox() + P[t[1]].bbox() + P[t[2]].bbox(), f);
     if (buried[p]) continue;
-    for (int k = 0; k < kOrigins; ++k)
-      probes.emplace_back(ipoint(origin(f, k)).bbox() + ipoint(origin(f, k) + kBuriedProbe * eps_t * empty_normal[f]).bbox(),
-                          kOrigins * f + k);
+    // One box around the face's four probes: the triangle and its copy moved along them.
+    const Vec shift = kBuriedProbe * eps_t * empty_normal[f];
+    probes.emplace_back(P[t[0]].bbox() + P[t[1]].bbox() + P[t[2]].bbox() + ipoint(a + shift).bbox() +
+                            ipoint(b + shift).bbox() + ipoint(c + shift).bbox(),
+                        f);
   }
   auto probeEnd = [&](std::size_t f, int k) { return Vec(origin(f, k) + kBuriedProbe * eps_t * empty_normal[f]); };
   std::vector<unsigned char> met(nf, 0);  // per face: bit k set when probe k meets a facing wall
   CGAL::box_intersection_d(probes.begin(), probes.end(), walls.begin(), walls.end(), [&](const Box& pb, const Box& wb) {
-    const std::size_t f = pb.info() / kOrigins, g = wb.info();
-    const int k = static_cast<int>(pb.info() % kOrigins);
-    if (f == g || (met[f] >> k & 1) || empty_normal[f].dot(empty_normal[g]) > kFacing) return;
+    const std::size_t f = pb.info(), g = wb.info();
+    if (f == g || empty_normal[f].dot(empty_normal[g]) > kFacing) return;
     const Tri& t = A.faces[g];
-    if (CGAL::do_intersect(IK::Segment_3(ipoint(origin(f, k)), ipoint(probeEnd(f, k))),
-                           IK::Triangle_3(P[t[0]], P[t[1]], P[t[2]])))
-      met[f] |= static_cast<unsigned char>(1u << k);
+    const IK::Triangle_3 wall(P[t[0]], P[t[1]], P[t[2]]);
+    const CGAL::Bbox_3 wall_box = wb.bbox();
+    for (int k = 0; k < kOrigins; ++k) {
+      if (met[f] >> k & 1) continue;
+      const IK::Segment_3 probe(ipoint(origin(f, k)), ipoint(probeEnd(f, k)));
+      if (CGAL::do_overlap(probe.bbox(), wall_box) && CGAL::do_intersect(probe, wall))
+        met[f] |= static_cast<unsigned char>(1u << k);
+    }
   });
   for (std::size_t f = 0; f < nf; ++f)
     for (int k = 0; k < kOrigins && !flag[f]; ++k)
