@@ -577,7 +577,6 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
   // Rays: origin inside the representative face, end outside the scene's box.
   struct Ray {
     EPoint from, to;
-    EK::Vector_3 normal;  // of the representative face
     int face = 0;  // the representative face, inside which the ray starts
     int crossings = 0, jump = 0, group = 0;
     bool degenerate = false;
@@ -589,9 +588,14 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
     const Tri& t = T[rep[p]];
     const EPoint &a = P[t[0]], &b = P[t[1]], &c = P[t[2]];
     Ray r;
-    r.normal = CGAL::cross_product(b - a, c - a);
-    const double w1 = centroid ? 1.0 / 3 : bary(rng), w2 = centroid ? 1.0 / 3 : bary(rng);
-    r.from = a + (b - a) * EK::FT(w1) + (c - a) * EK::FT(w2);
+    // One exact construction (a single node of the lazy kernel's expression graph: a patch has
+    // a ray, and a large sweep has hundreds of thousands of patches).
+    if (centroid) {
+      r.from = CGAL::centroid(a, b, c);
+    } else {
+      const double w1 = bary(rng), w2 = bary(rng);
+      r.from = CGAL::barycenter(a, EK::FT(1.0 - w1 - w2), b, EK::FT(w1), c, EK::FT(w2));
+    }
     const Vec n = (approx[t[1]] - approx[t[0]]).cross(approx[t[2]] - approx[t[0]]);
     int k = 0;
     n.cwiseAbs().maxCoeff(&k);
@@ -654,8 +658,10 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
               r.degenerate = true;  // on its boundary: try another point
               return;
             }
-            const EK::Vector_3 m = CGAL::cross_product(b - a, c - a);
-            r.jump += (CGAL::is_positive(m * r.normal) ? 1 : -1) * A.weight[fb.info()];
+            const Tri& u = T[static_cast<std::size_t>(r.face)];
+            const EK::Vector_3 m = CGAL::cross_product(b - a, c - a),
+                               n = CGAL::cross_product(P[u[1]] - P[u[0]], P[u[2]] - P[u[0]]);
+            r.jump += (CGAL::is_positive(m * n) ? 1 : -1) * A.weight[fb.info()];
             r.group = std::min(r.group, L.patch[fb.info()]);
             return;
           }
