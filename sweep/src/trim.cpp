@@ -44,6 +44,10 @@
 
 #include <Eigen/Geometry>  // cross products
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -71,6 +75,23 @@ using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::size_t>;
 
 double seconds(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Calls fn(i) for every i in [begin, end): on the calling thread alone when `threads` is 1,
+// otherwise in parallel on `threads` threads (0: as many as the hardware has). fn must be safe
+// to run concurrently for different i.
+template <class Fn>
+void parallelFor(std::size_t begin, std::size_t end, int threads, Fn&& fn) {
+  if (threads == 1 || end - begin < 2) {
+    for (std::size_t i = begin; i < end; ++i) fn(i);
+    return;
+  }
+  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end), [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t i = r.begin(); i != r.end(); ++i) fn(i);
+    });
+  });
 }
 
 int findRoot(std::vector<int>& parent, int x) {
@@ -449,15 +470,15 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
 
   // Re-triangulate every crossed triangle. The points of the constraints carry their numbers
   // into the triangulation; only the points it makes where constraints cross are lifted back
-  // onto the triangle's plane and identified.
-  for (std::size_t t = 0; t < T.size(); ++t) {
-    if (options.progress && t % 4096 == 0)
-      options.progress({"intersect", 0.5 + 0.5 * static_cast<double>(t) / static_cast<double>(T.size())});
-    if (cons[t].empty()) {
-      out.faces.push_back(T[t]);
-      out.source.push_back(static_cast<int>(t));
-      continue;
-    }
+  // onto the triangle's plane, and numbered afterwards. The triangulations of a block of
+  // triangles run in parallel (they only read the exact points, which the lazy kernel
+  // evaluates thread-safely); their faces and new points are then numbered in triangle order
+  // on the calling thread, so the arrangement is the same for any number of threads.
+  struct Retriangulation {
+    std::vector<Tri> faces;     // a corner -(k + 1) is the point fresh[k]
+    std::vector<EPoint> fresh;  // points made where constraints cross
+  };
+  auto retriangulate = [&](std::size_t t, Retriangulation& r) {
     const EPoint A = out.points[T[t][0]], B = out.points[T[t][1]], C = out.points[T[t][2]];
     const EK::Vector_3 n = CGAL::cross_product(B - A, C - A);
     // Drop the coordinate k of the largest |n_k| (compared exactly, so that coplanar triangles
@@ -470,7 +491,6 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
     const bool flip = CGAL::is_negative(n[k]);
     auto project = [&](const EPoint& p) { return EK::Point_2(p[k1], p[k2]); };
     CDT cdt;
-    const int corner[3] = {T[t][0], T[t][1], T[t][2]};
     // Distinct numbers are distinct points of the plane, so distinct vertices.
     std::unordered_map<int, CDT::Vertex_handle> vertex_of;
     auto vertex = [&](int id) {
@@ -478,7 +498,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
       if (added) (it->second = cdt.insert(project(out.points[id])))->info().id = id;
       return it->second;
     };
-    for (int c = 0; c < 3; ++c) vertex(corner[c]);
+    for (int c = 0; c < 3; ++c) vertex(T[t][c]);
     for (const Constraint& c : cons[t]) {
       const auto va = vertex(c.a);
       if (c.b != c.a) cdt.insert_constraint(va, vertex(c.b));
@@ -490,13 +510,41 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
       const EK::FT xk = A[k] - (n[k1] * (xk1 - A[k1]) + n[k2] * (xk2 - A[k2])) / n[k];
       EK::FT c3[3];
       c3[k] = xk, c3[k1] = xk1, c3[k2] = xk2;
-      v->info().id = pointId(EPoint(c3[0], c3[1], c3[2]));
+      r.fresh.emplace_back(c3[0], c3[1], c3[2]);
+      v->info().id = -static_cast<int>(r.fresh.size());
     }
     for (auto f : cdt.finite_face_handles()) {
-      Tri r{{f->vertex(0)->info().id, f->vertex(1)->info().id, f->vertex(2)->info().id}};
-      if (flip) std::swap(r[1], r[2]);
-      out.faces.push_back(r);
-      out.source.push_back(static_cast<int>(t));
+      Tri x{{f->vertex(0)->info().id, f->vertex(1)->info().id, f->vertex(2)->info().id}};
+      if (flip) std::swap(x[1], x[2]);
+      r.faces.push_back(x);
+    }
+  };
+  constexpr std::size_t kBlock = 4096;
+  std::vector<Retriangulation> block;
+  for (std::size_t t0 = 0; t0 < T.size(); t0 += kBlock) {
+    if (options.progress)
+      options.progress({"intersect", 0.5 + 0.5 * static_cast<double>(t0) / static_cast<double>(T.size())});
+    const std::size_t t1 = std::min(T.size(), t0 + kBlock);
+    block.assign(t1 - t0, Retriangulation());
+    parallelFor(t0, t1, options.threads, [&](std::size_t t) {
+      if (!cons[t].empty()) retriangulate(t, block[t - t0]);
+    });
+    for (std::size_t t = t0; t < t1; ++t) {
+      if (cons[t].empty()) {
+        out.faces.push_back(T[t]);
+        out.source.push_back(static_cast<int>(t));
+        continue;
+      }
+      Retriangulation& r = block[t - t0];
+      std::vector<int> fresh_id;
+      fresh_id.reserve(r.fresh.size());
+      for (const EPoint& x : r.fresh) fresh_id.push_back(pointId(x));
+      for (Tri x : r.faces) {
+        for (int& v : x)
+          if (v < 0) v = fresh_id[static_cast<std::size_t>(-v - 1)];
+        out.faces.push_back(x);
+        out.source.push_back(static_cast<int>(t));
+      }
     }
   }
   mergeCoincident(out);
@@ -1136,7 +1184,7 @@ constexpr int kMouthRounds = 16;
 // tessellation tolerance: a true envelope patch lies within eps_t of the true boundary, so
 // that point is outside. Returns a flag per patch.
 std::vector<char> buriedPatches(const Arrangement& A, const Labels& L, double eps_t,
-                                const std::function<bool(const Vec&)>& inside_swept) {
+                                const std::function<bool(const Vec&)>& inside_swept, int threads) {
   const std::size_t np = L.w_front.size();
   std::vector<char> flag(np, 0);
   if (!inside_swept) return flag;
@@ -1159,14 +1207,18 @@ std::vector<char> buriedPatches(const Arrangement& A, const Labels& L, double ep
     const double a = (approx(t[1]) - approx(t[0])).cross(approx(t[2]) - approx(t[0])).norm();
     if (a > area[p]) area[p] = a, largest[p] = static_cast<int>(f);
   }
+  // The probe points first (the exact points' approximations are not read concurrently), then
+  // the inside tests, in parallel.
+  std::vector<std::pair<std::size_t, Vec>> probe;
   for (std::size_t p = 0; p < np; ++p) {
     if (!side[p] || largest[p] < 0) continue;
     const Tri& t = A.faces[largest[p]];
     const Vec a = approx(t[0]), b = approx(t[1]), c = approx(t[2]);
     const Vec n = (b - a).cross(c - a);
     if (!(n.norm() > 0)) continue;
-    flag[p] = inside_swept((a + b + c) / 3.0 + side[p] * kBuriedProbe * eps_t * n.normalized());
+    probe.emplace_back(p, (a + b + c) / 3.0 + side[p] * kBuriedProbe * eps_t * n.normalized());
   }
+  parallelFor(0, probe.size(), threads, [&](std::size_t i) { flag[probe[i].first] = inside_swept(probe[i].second); });
   return flag;
 }
 
@@ -1212,7 +1264,7 @@ constexpr double kNormalWidth = 1e-9;
 // walls meet, that is the only wall it meets.
 // Returns a flag per face.
 std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::vector<char>& buried, double eps_t,
-                             const std::function<bool(const Vec&)>& inside_swept) {
+                             const std::function<bool(const Vec&)>& inside_swept, int threads) {
   const std::size_t nf = A.faces.size();
   std::vector<char> flag(nf, 0);
   if (!inside_swept) return flag;
@@ -1267,9 +1319,10 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
         met[f] |= static_cast<unsigned char>(1u << k);
     }
   });
-  for (std::size_t f = 0; f < nf; ++f)
+  parallelFor(0, nf, threads, [&](std::size_t f) {
     for (int k = 0; k < kOrigins && !flag[f]; ++k)
       if (met[f] >> k & 1) flag[f] = inside_swept(probeEnd(f, k));
+  });
   return flag;
 }
 
@@ -1441,8 +1494,8 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
   // Faces with w = 0 on one side and w >= 1 on the other, towards w = 0; one of each overlap.
   t0 = std::chrono::steady_clock::now();
   if (options.progress) options.progress({"output", 0.0});
-  std::vector<char> buried = buriedPatches(A, L, kTessellationShare * eps, inside_swept);
-  std::vector<char> crack = crackFaces(A, L, buried, kTessellationShare * eps, inside_swept);
+  std::vector<char> buried = buriedPatches(A, L, kTessellationShare * eps, inside_swept, options.threads);
+  std::vector<char> crack = crackFaces(A, L, buried, kTessellationShare * eps, inside_swept, options.threads);
   // Crack walls joined across shared edges form regions; a region whose mouth cannot be closed
   // is kept as a whole (as a buried patch is), so that no crack is closed halfway.
   std::vector<int> crack_region(A.faces.size(), -1);
@@ -1574,6 +1627,9 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
 double resolveTolerance(const Body& body, const SweepOptions& o) {
   if (o.max_steps < 1)
     throw Error(ErrorCode::InvalidArgument, "SweepOptions::max_steps must be >= 1, got " + std::to_string(o.max_steps));
+  if (o.threads < 0)
+    throw Error(ErrorCode::InvalidArgument, "SweepOptions::threads must be >= 0 (0: every hardware thread), got " +
+                                                std::to_string(o.threads));
   if (o.tolerance) {
     if (!(std::isfinite(*o.tolerance) && *o.tolerance > 0))
       throw Error(ErrorCode::InvalidArgument, "SweepOptions::tolerance must be finite and > 0, got " +

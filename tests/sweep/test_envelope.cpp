@@ -521,6 +521,34 @@ TEST(Envelope, FaceThroughTheScrewAxisOnAPolySam) {
   checkEnvelope(m, motion, env, epsOf(m), rng, "bracket about an axis in its face, two spans", co);
 }
 
+// The re-triangulations and inside tests run in parallel, and their results are numbered in a
+// fixed order afterwards: the envelope (vertices, triangles, counters) is the same, bit for bit,
+// on one thread, two, and every hardware thread.
+TEST(Envelope, SameEnvelopeOnAnyNumberOfThreads) {
+  const Body body = makeBody(bundledBracket());
+  const Motion3 motion = single(Affine3(), bracketQuarterTurn());
+  SweepOptions one;
+  one.threads = 1;
+  const Envelope a = sweptEnvelope(body, motion, one);
+  ASSERT_GT(a.intersecting_pairs, 1000u);
+  ASSERT_GT(a.crack_faces_removed + a.buried_patches_removed, 0u);
+  for (const int threads : {2, 0}) {
+    SweepOptions o;
+    o.threads = threads;
+    const Envelope b = sweptEnvelope(body, motion, o);
+    EXPECT_EQ(b.arrangement_triangles, a.arrangement_triangles) << threads << " threads";
+    EXPECT_EQ(b.buried_patches_removed, a.buried_patches_removed) << threads << " threads";
+    EXPECT_EQ(b.crack_faces_removed, a.crack_faces_removed) << threads << " threads";
+    EXPECT_EQ(b.triangles, a.triangles) << threads << " threads";
+    ASSERT_EQ(b.vertices.size(), a.vertices.size()) << threads << " threads";
+    for (std::size_t v = 0; v < a.vertices.size(); ++v)
+      ASSERT_TRUE(b.vertices[v] == a.vertices[v]) << "vertex " << v << ", " << threads << " threads";
+  }
+  SweepOptions bad;
+  bad.threads = -1;
+  EXPECT_TRUE(throwsError([&] { sweptEnvelope(body, motion, bad); }, ErrorCode::InvalidArgument, "threads"));
+}
+
 // ---- seeded property test ----------------------------------------------------------------------
 
 TEST(Envelope, ContainsEveryPosedBodyOnRandomMotions) {

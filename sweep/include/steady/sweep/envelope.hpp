@@ -67,6 +67,10 @@ struct SweepOptions {
   /// Check the rounded output for self-intersections with CGAL (EnvelopeCheck); costs about
   /// a tenth of the sweep. Default on.
   bool check = true;
+  /// Threads for the exact re-triangulations and the inside tests: 0 (default) uses every
+  /// hardware thread, 1 runs on the calling thread alone. The envelope is the same for any
+  /// number.
+  int threads = 0;
   /// Called now and then from the calling thread (at most about a hundred times); may be empty.
   std::function<void(const SweepProgress&)> progress;
 };
