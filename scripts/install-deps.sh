@@ -10,7 +10,7 @@ packages=(
   libbenchmark-dev   # bench/
   libcli11-dev nlohmann-json3-dev  # cli/, io/ (motion files)
   libopenmesh-dev    # io/ (mesh files)
-  libembree-dev libtbb-dev  # collide/ (broad phase)
+  libembree-dev libtbb-dev  # collide/ (broad phase); sweep/ (parallel re-triangulation)
   libcgal-dev libgmp-dev libmpfr-dev  # sweep/: CGAL 5.5 (exact kernel: GMP, MPFR)
   libcgal-demo       # bench/: CGAL's sample meshes (data.tar.gz)
   libfcl-dev         # bench/: FCL 0.7, the contact peer
