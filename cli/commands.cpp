@@ -799,6 +799,7 @@ SweepOutput sweepCommand(const SweepRequest& request) {
   steady::sweep::SweepOptions options;
   options.relative_tolerance = relative;
   options.check = request.check;
+  options.threads = request.threads;
   ProgressBar bar(request.progress, start);
   options.progress = [&bar](const steady::sweep::SweepProgress& p) { bar.update(p); };
   const steady::sweep::Envelope envelope =

@@ -88,6 +88,7 @@ struct SweepRequest {
   bool binary = false;      ///< binary output (.ply, .stl)
   bool check = true;        ///< check the envelope for self-intersections (SweepOptions::check)
   bool progress = false;    ///< draw a progress bar on standard error (when it is a terminal)
+  int threads = 0;          ///< worker threads (SweepOptions::threads; 0: every hardware thread)
 };
 
 /// Output of `steady sweep`.

@@ -286,6 +286,23 @@ int main(int argc, char** argv) {
                   "faces and unused vertices, orient the faces consistently and outward; holes are not filled");
   sweep->add_flag("--fill-holes", sweep_request.fill_holes, "With --repair (implied): also fill the holes of an open BODY");
   sweep->add_flag("--binary", sweep_request.binary, "Binary output (.ply, .stl)");
+  sweep->add_option("--threads", sweep_request.threads,
+                    "Threads for the exact re-triangulation and the inside tests; 0 (default): every hardware "
+                    "thread. The envelope does not depend on it")
+      ->type_name("N")
+      ->check(CLI::Validator(
+          [](const std::string& text) -> std::string {
+            std::size_t used = 0;
+            long n = -1;
+            try {
+              n = std::stol(text, &used);
+            } catch (const std::exception&) {
+            }
+            if (used != text.size() || n < 0 || n > 4096)
+              return "'" + text + "' is not a whole number from 0 to 4096 (0: every hardware thread)";
+            return std::string();
+          },
+          "N >= 0"));
   bool sweep_no_check = false;
   sweep->add_flag("--no-check", sweep_no_check,
                   "Skip the exact self-intersection check of the envelope (about a tenth of the time)");
