@@ -31,6 +31,7 @@
 #include <steady/sweep/inside.hpp>
 
 #include "cycle.hpp"
+#include "face_tree.hpp"
 
 #include <steady/core/error.hpp>
 
@@ -608,19 +609,14 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
   }
   const std::size_t np = rep.size();
 
-  // Face boxes (approximate coordinates, widened so that they hold the exact triangles).
+  // The faces' boxes (approximate coordinates, widened by `pad` below so that they hold the
+  // exact triangles) in a hierarchy, for the rays.
   Vec lo = Vec::Constant(HUGE_VAL), hi = -lo;
   for (const Vec& x : approx) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
   const double size = (hi - lo).norm() + 1.0;
   const double pad = 1e-9 * size;
-  std::vector<Box> face_boxes;
-  face_boxes.reserve(nf);
-  for (std::size_t f = 0; f < nf; ++f) {
-    Vec a = approx[T[f][0]].cwiseMin(approx[T[f][1]]).cwiseMin(approx[T[f][2]]);
-    Vec b = approx[T[f][0]].cwiseMax(approx[T[f][1]]).cwiseMax(approx[T[f][2]]);
-    double pa[3] = {a.x() - pad, a.y() - pad, a.z() - pad}, pb[3] = {b.x() + pad, b.y() + pad, b.z() + pad};
-    face_boxes.emplace_back(pa, pb, f);
-  }
+  detail::FaceTree tree;
+  tree.build(approx, T);
 
   // Rays: origin inside the representative face, end outside the scene's box.
   struct Ray {
@@ -674,61 +670,61 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
     std::vector<Ray> rays;
     rays.reserve(todo.size());
     for (int p : todo) rays.push_back(makeRay(p, round == 0));
-    std::vector<Box> ray_boxes;
-    ray_boxes.reserve(rays.size());
-    for (std::size_t r = 0; r < rays.size(); ++r) {
-      const CGAL::Bbox_3 b = rays[r].from.bbox() + rays[r].to.bbox();
-      double pa[3] = {b.xmin() - pad, b.ymin() - pad, b.zmin() - pad};
-      double pb[3] = {b.xmax() + pad, b.ymax() + pad, b.zmax() + pad};
-      ray_boxes.emplace_back(pa, pb, r);
-    }
-    CGAL::box_intersection_d(
-        ray_boxes.begin(), ray_boxes.end(), face_boxes.begin(), face_boxes.end(), [&](const Box& rb, const Box& fb) {
-          Ray& r = rays[rb.info()];
-          if (r.degenerate) return;
-          // Faces cut from the representative face's cycle triangle lie in its plane and meet
-          // the origin (strictly inside the representative face) only in that face: decided
-          // without the exact test, which would have to evaluate the origin exactly.
-          if (A.source[fb.info()] == A.source[static_cast<std::size_t>(r.face)]) {
-            if (fb.info() == static_cast<std::size_t>(r.face)) r.jump += A.weight[fb.info()];
-            return;
-          }
-          const Tri& t = T[fb.info()];
-          const EPoint &a = P[t[0]], &b = P[t[1]], &c = P[t[2]];
-          const auto s_from = CGAL::orientation(a, b, c, r.from);
-          if (s_from == CGAL::COPLANAR) {
-            // The origin lies in this face's plane: an overlapping copy when inside the face.
-            const auto o1 = CGAL::coplanar_orientation(a, b, c, r.from);
-            const auto o2 = CGAL::coplanar_orientation(b, c, a, r.from);
-            const auto o3 = CGAL::coplanar_orientation(c, a, b, r.from);
-            if (o1 == CGAL::NEGATIVE || o2 == CGAL::NEGATIVE || o3 == CGAL::NEGATIVE) return;  // outside
-            if (o1 == CGAL::COLLINEAR || o2 == CGAL::COLLINEAR || o3 == CGAL::COLLINEAR) {
-              r.degenerate = true;  // on its boundary: try another point
-              return;
-            }
-            const Tri& u = T[static_cast<std::size_t>(r.face)];
-            const EK::Vector_3 m = CGAL::cross_product(b - a, c - a),
-                               n = CGAL::cross_product(P[u[1]] - P[u[0]], P[u[2]] - P[u[0]]);
-            r.jump += (CGAL::is_positive(m * n) ? 1 : -1) * A.weight[fb.info()];
-            r.group = std::min(r.group, L.patch[fb.info()]);
-            return;
-          }
-          const auto s_to = CGAL::orientation(a, b, c, r.to);
-          if (s_to == s_from || s_to == CGAL::COPLANAR) return;  // does not cross the plane
-          const auto o1 = CGAL::orientation(r.from, r.to, a, b), o2 = CGAL::orientation(r.from, r.to, b, c),
-                     o3 = CGAL::orientation(r.from, r.to, c, a);
-          if (o1 == CGAL::COPLANAR || o2 == CGAL::COPLANAR || o3 == CGAL::COPLANAR) {
-            // The ray's line meets an edge's line: it hits the triangle's boundary (ambiguous:
-            // try another ray) unless two of the non-zero signs differ (it misses).
-            const bool p = o1 == CGAL::POSITIVE || o2 == CGAL::POSITIVE || o3 == CGAL::POSITIVE;
-            const bool q = o1 == CGAL::NEGATIVE || o2 == CGAL::NEGATIVE || o3 == CGAL::NEGATIVE;
-            if (!(p && q)) r.degenerate = true;
-            return;
-          }
-          if (o1 != o2 || o2 != o3) return;  // misses the triangle
-          // Leaving through the face along its normal counts +1 (the origin is behind it).
-          r.crossings += (s_from == CGAL::NEGATIVE ? 1 : -1) * A.weight[fb.info()];
-        });
+    // Each ray meets the faces whose widened boxes its segment meets (its origin's interval box
+    // adds its own width), in parallel over the rays.
+    auto meet = [&](Ray& r, std::size_t f) {
+      if (r.degenerate) return;
+      // Faces cut from the representative face's cycle triangle lie in its plane and meet
+      // the origin (strictly inside the representative face) only in that face: decided
+      // without the exact test, which would have to evaluate the origin exactly.
+      if (A.source[f] == A.source[static_cast<std::size_t>(r.face)]) {
+        if (f == static_cast<std::size_t>(r.face)) r.jump += A.weight[f];
+        return;
+      }
+      const Tri& t = T[f];
+      const EPoint &a = P[t[0]], &b = P[t[1]], &c = P[t[2]];
+      const auto s_from = CGAL::orientation(a, b, c, r.from);
+      if (s_from == CGAL::COPLANAR) {
+        // The origin lies in this face's plane: an overlapping copy when inside the face.
+        const auto o1 = CGAL::coplanar_orientation(a, b, c, r.from);
+        const auto o2 = CGAL::coplanar_orientation(b, c, a, r.from);
+        const auto o3 = CGAL::coplanar_orientation(c, a, b, r.from);
+        if (o1 == CGAL::NEGATIVE || o2 == CGAL::NEGATIVE || o3 == CGAL::NEGATIVE) return;  // outside
+        if (o1 == CGAL::COLLINEAR || o2 == CGAL::COLLINEAR || o3 == CGAL::COLLINEAR) {
+          r.degenerate = true;  // on its boundary: try another point
+          return;
+        }
+        const Tri& u = T[static_cast<std::size_t>(r.face)];
+        const EK::Vector_3 m = CGAL::cross_product(b - a, c - a),
+                           n = CGAL::cross_product(P[u[1]] - P[u[0]], P[u[2]] - P[u[0]]);
+        r.jump += (CGAL::is_positive(m * n) ? 1 : -1) * A.weight[f];
+        r.group = std::min(r.group, L.patch[f]);
+        return;
+      }
+      const auto s_to = CGAL::orientation(a, b, c, r.to);
+      if (s_to == s_from || s_to == CGAL::COPLANAR) return;  // does not cross the plane
+      const auto o1 = CGAL::orientation(r.from, r.to, a, b), o2 = CGAL::orientation(r.from, r.to, b, c),
+                 o3 = CGAL::orientation(r.from, r.to, c, a);
+      if (o1 == CGAL::COPLANAR || o2 == CGAL::COPLANAR || o3 == CGAL::COPLANAR) {
+        // The ray's line meets an edge's line: it hits the triangle's boundary (ambiguous:
+        // try another ray) unless two of the non-zero signs differ (it misses).
+        const bool p = o1 == CGAL::POSITIVE || o2 == CGAL::POSITIVE || o3 == CGAL::POSITIVE;
+        const bool q = o1 == CGAL::NEGATIVE || o2 == CGAL::NEGATIVE || o3 == CGAL::NEGATIVE;
+        if (!(p && q)) r.degenerate = true;
+        return;
+      }
+      if (o1 != o2 || o2 != o3) return;  // misses the triangle
+      // Leaving through the face along its normal counts +1 (the origin is behind it).
+      r.crossings += (s_from == CGAL::NEGATIVE ? 1 : -1) * A.weight[f];
+    };
+    parallelFor(0, rays.size(), options.threads, [&](std::size_t i) {
+      Ray& r = rays[i];
+      const CGAL::Bbox_3 b = r.from.bbox();
+      const Vec from(0.5 * (b.xmin() + b.xmax()), 0.5 * (b.ymin() + b.ymax()), 0.5 * (b.zmin() + b.zmax()));
+      const Vec to(CGAL::to_double(r.to.x()), CGAL::to_double(r.to.y()), CGAL::to_double(r.to.z()));
+      const double width = std::max({b.xmax() - b.xmin(), b.ymax() - b.ymin(), b.zmax() - b.zmin()});
+      tree.alongSegment(from, to, 2 * pad + width, [&](int f) { meet(r, static_cast<std::size_t>(f)); });
+    });
     std::vector<int> again;
     for (std::size_t r = 0; r < rays.size(); ++r) {
       const int p = todo[r];
