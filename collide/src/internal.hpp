@@ -116,7 +116,20 @@ struct PairSink {
 };
 
 /// rtcCollide callback: appends the pairs to the PairSink passed as user data (thread-safe).
+/// Embree calls it from its TBB threads, so the pairs arrive in an order that changes from run
+/// to run: sortPairs must put them in order before anything depends on it.
 void collectPairs(void* user, RTCCollision* collisions, unsigned n);
+/// Sorts broad-phase pairs by (moving primitive, static face) and drops repeats, so that the
+/// solves that follow, and the first contact they report, do not depend on the order in which
+/// Embree's threads called collectPairs.
+void sortPairs(std::vector<PairHit>& pairs);
+
+/// A strict total order on contacts: earlier time first; at equal times certain before
+/// uncertain, crossing before touching, then by span time, type, features, and the remaining
+/// fields by their bits (so that every two different contacts are ordered, and equal times are
+/// decided by the contacts, not by the order in which pairs were solved). Used to pick the first
+/// contact and to order contact events.
+bool contactBefore(const Contact& x, const Contact& y);
 
 /// A new Embree device; throws Error(InvalidArgument) when Embree cannot create one.
 RTCDevice newDevice();

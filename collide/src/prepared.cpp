@@ -566,7 +566,7 @@ class TreeQuery {
       solveTrianglePair(st_, ps, t, g, a, hi, tol_, margin_, stats, found_);
       for (const Contact& c : found_) {
         if (mode_ == Mode::All) all_.push_back(c);
-        else if (!best_ || c.t < best_->t) best_ = c;
+        else if (!best_ || contactBefore(c, *best_)) best_ = c;
       }
       if (mode_ == Mode::Any && best_) {
         done_ = true;

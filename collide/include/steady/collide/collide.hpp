@@ -22,6 +22,13 @@
 /// the true time by more than RootOptions::time_tolerance (1e-12 in span time), unless the
 /// features meet only within `contact_tolerance` (then it may be reported or not). Both meshes
 /// are treated as surfaces: contact means the surfaces touch.
+///
+/// Determinism. The answers are bit-identical from run to run and whatever the number of threads
+/// Embree runs on: the candidate pairs Embree reports (from several threads, in an order that
+/// changes) are sorted by (moving feature, static feature) before they are solved; among
+/// contacts found at the same time, certain ones come first, then crossings, then the feature
+/// indices and the other fields decide (a strict total order, no tolerance); and an edge/edge
+/// contact's normal and crossing sign do not depend on which triangles found it.
 
 #include <steady/collide/span_roots.hpp>
 #include <steady/core/motion.hpp>
@@ -73,9 +80,11 @@ struct Contact {
   std::array<int, 2> b{{-1, -1}};
   Eigen::Vector3d point = Eigen::Vector3d::Zero();   ///< world contact point at time t
   /// Unit world normal at the contact: b's face normal (VertexFace), a's face normal at time t
-  /// (FaceVertex), or the edges' common normal (EdgeEdge, up to sign).
+  /// (FaceVertex), or the edges' common normal (EdgeEdge): a's edge cross b's edge, each edge
+  /// running from the first to the second vertex of `a` and `b` (smaller index first).
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();
-  /// +1 or -1 when the features cross, 0 for a touch (see ContactRoot::crossing).
+  /// +1 or -1 when the features cross, 0 for a touch (see ContactRoot::crossing; for EdgeEdge,
+  /// the sign of normal . (b's edge - a's edge) goes from -crossing to +crossing).
   int crossing = 0;
   bool certain = true;  ///< false only when a root solve hit its work limit
 };
