@@ -6,67 +6,56 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
 #include <vector>
 
 namespace steady::sweep::detail {
 
-// A bounding-volume hierarchy of the boxes of triangles: median splits of the triangle
-// centroids along the longest axis, up to 4 triangles per leaf. Its queries only read it, so
-// they may run concurrently.
+// A bounding-volume hierarchy of the boxes of triangles: median splits of the box centres along
+// the longest axis, up to 4 triangles per leaf. Boxes are stored in float, rounded outward (a
+// large arrangement has millions of faces), so every query may report a few more triangles
+// than the exact boxes would, never fewer. Its queries only read it, so they may run
+// concurrently.
 class FaceTree {
  public:
   using Vec = Eigen::Vector3d;
-
-  struct Node {
-    Vec lo, hi;
-    int left = -1, right = -1;  // children (inner node) or -1 (leaf)
-    int first = 0, count = 0;   // leaf: order_[first, first + count)
-  };
 
   void build(const std::vector<Vec>& vertices, const std::vector<std::array<int, 3>>& faces) {
     const std::size_t nf = faces.size();
     flo_.resize(nf);
     fhi_.resize(nf);
-    std::vector<Vec> centroid(nf);
     order_.resize(nf);
     for (std::size_t f = 0; f < nf; ++f) {
       const Vec& a = vertices[faces[f][0]];
       const Vec& b = vertices[faces[f][1]];
       const Vec& c = vertices[faces[f][2]];
-      flo_[f] = a.cwiseMin(b).cwiseMin(c);
-      fhi_[f] = a.cwiseMax(b).cwiseMax(c);
-      centroid[f] = (a + b + c) / 3.0;
+      flo_[f] = down(a.cwiseMin(b).cwiseMin(c));
+      fhi_[f] = up(a.cwiseMax(b).cwiseMax(c));
       order_[f] = static_cast<int>(f);
     }
     nodes_.clear();
-    nodes_.reserve(2 * nf);
-    split(0, static_cast<int>(nf), centroid);
+    nodes_.reserve(nf);  // at most nf nodes (leaves hold 2 to 4 faces); pages never touched stay free
+    if (nf > 0) split(0, static_cast<int>(nf));
   }
-
-  const Vec& faceLo(int f) const { return flo_[f]; }
-  const Vec& faceHi(int f) const { return fhi_[f]; }
-  const Node& root() const { return nodes_.front(); }
 
   // Calls visit(f) for every face whose box meets the box [lo, hi].
   template <class Visit>
   void overlapping(const Vec& lo, const Vec& hi, Visit&& visit) const {
-    forEach([&](const Vec& nlo, const Vec& nhi) { return !((nlo.array() > hi.array()).any() || (lo.array() > nhi.array()).any()); },
-            [&](int f) {
-              if (!((flo_[f].array() > hi.array()).any() || (lo.array() > fhi_[f].array()).any())) visit(f);
-            });
+    auto meets = [&](const Box& b) { return !((b.lo.array() > hi.array()).any() || (lo.array() > b.hi.array()).any()); };
+    forEach(meets, [&](int f) {
+      if (meets(faceBox(f))) visit(f);
+    });
   }
 
   // Calls keep_going(f) for the faces whose boxes meet the box [lo, hi] until it returns false.
   template <class Visit>
   void overlappingUntil(const Vec& lo, const Vec& hi, Visit&& keep_going) const {
     bool stop = false;
-    forEach([&](const Vec& nlo, const Vec& nhi) {
-              return !stop && !((nlo.array() > hi.array()).any() || (lo.array() > nhi.array()).any());
-            },
+    auto meets = [&](const Box& b) { return !((b.lo.array() > hi.array()).any() || (lo.array() > b.hi.array()).any()); };
+    forEach([&](const Box& b) { return !stop && meets(b); },
             [&](int f) {
-              if (!stop && !((flo_[f].array() > hi.array()).any() || (lo.array() > fhi_[f].array()).any()))
-                stop = !keep_going(f);
+              if (!stop && meets(faceBox(f))) stop = !keep_going(f);
             });
   }
 
@@ -74,28 +63,54 @@ class FaceTree {
   template <class Visit>
   void alongSegment(const Vec& p, const Vec& q, double pad, Visit&& visit) const {
     const Vec d = q - p;
-    auto hits = [&](const Vec& lo, const Vec& hi) {
+    auto hits = [&](const Box& b) {
       double t0 = 0.0, t1 = 1.0;
       for (int k = 0; k < 3; ++k) {
-        const double l = lo[k] - pad, h = hi[k] + pad;
+        const double l = b.lo[k] - pad, h = b.hi[k] + pad;
         if (d[k] == 0) {
           if (p[k] < l || p[k] > h) return false;
           continue;
         }
-        double a = (l - p[k]) / d[k], b = (h - p[k]) / d[k];
-        if (a > b) std::swap(a, b);
-        t0 = std::max(t0, a - 1e-12);
-        t1 = std::min(t1, b + 1e-12);
+        double s = (l - p[k]) / d[k], e = (h - p[k]) / d[k];
+        if (s > e) std::swap(s, e);
+        t0 = std::max(t0, s - 1e-12);
+        t1 = std::min(t1, e + 1e-12);
         if (t0 > t1) return false;
       }
       return true;
     };
     forEach(hits, [&](int f) {
-      if (hits(flo_[f], fhi_[f])) visit(f);
+      if (hits(faceBox(f))) visit(f);
     });
   }
 
  private:
+  using Vec3f = Eigen::Vector3f;
+  struct Box {
+    Vec lo, hi;
+  };
+  struct Node {
+    Vec3f lo, hi;
+    int left = -1, right = -1;  // children (inner node) or -1 (leaf)
+    int first = 0, count = 0;   // leaf: order_[first, first + count)
+  };
+
+  // The float at or below (above) each coordinate.
+  static Vec3f down(const Vec& x) {
+    Vec3f r = x.cast<float>();
+    for (int k = 0; k < 3; ++k)
+      if (static_cast<double>(r[k]) > x[k]) r[k] = std::nextafter(r[k], -std::numeric_limits<float>::infinity());
+    return r;
+  }
+  static Vec3f up(const Vec& x) {
+    Vec3f r = x.cast<float>();
+    for (int k = 0; k < 3; ++k)
+      if (static_cast<double>(r[k]) < x[k]) r[k] = std::nextafter(r[k], std::numeric_limits<float>::infinity());
+    return r;
+  }
+
+  Box faceBox(int f) const { return {flo_[f].cast<double>(), fhi_[f].cast<double>()}; }
+
   template <class NodeTest, class Visit>
   void forEach(NodeTest&& test, Visit&& visit) const {
     if (nodes_.empty()) return;
@@ -104,7 +119,7 @@ class FaceTree {
     stack[top++] = 0;
     while (top > 0) {
       const Node& n = nodes_[stack[--top]];
-      if (!test(n.lo, n.hi)) continue;
+      if (!test(Box{n.lo.cast<double>(), n.hi.cast<double>()})) continue;
       if (n.left < 0) {
         for (int i = n.first; i < n.first + n.count; ++i) visit(order_[i]);
       } else {
@@ -114,15 +129,17 @@ class FaceTree {
     }
   }
 
-  int split(int first, int last, const std::vector<Vec>& centroid) {
+  int split(int first, int last) {
     const int id = static_cast<int>(nodes_.size());
     nodes_.emplace_back();
-    Vec lo = Vec::Constant(std::numeric_limits<double>::infinity()), hi = -lo, clo = lo, chi = hi;
+    Vec3f lo = Vec3f::Constant(std::numeric_limits<float>::infinity()), hi = -lo;
+    Vec3f clo = lo, chi = hi;  // bounds of the box centres (doubled)
     for (int i = first; i < last; ++i) {
-      lo = lo.cwiseMin(flo_[order_[i]]);
-      hi = hi.cwiseMax(fhi_[order_[i]]);
-      clo = clo.cwiseMin(centroid[order_[i]]);
-      chi = chi.cwiseMax(centroid[order_[i]]);
+      const int f = order_[i];
+      lo = lo.cwiseMin(flo_[f]);
+      hi = hi.cwiseMax(fhi_[f]);
+      clo = clo.cwiseMin(flo_[f] + fhi_[f]);
+      chi = chi.cwiseMax(flo_[f] + fhi_[f]);
     }
     nodes_[id].lo = lo;
     nodes_[id].hi = hi;
@@ -134,10 +151,11 @@ class FaceTree {
     int axis = 0;
     (chi - clo).maxCoeff(&axis);
     const int mid = first + (last - first) / 2;
-    std::nth_element(order_.begin() + first, order_.begin() + mid, order_.begin() + last,
-                     [&](int a, int b) { return centroid[a][axis] < centroid[b][axis]; });
-    const int l = split(first, mid, centroid);
-    const int r = split(mid, last, centroid);
+    std::nth_element(order_.begin() + first, order_.begin() + mid, order_.begin() + last, [&](int a, int b) {
+      return flo_[a][axis] + fhi_[a][axis] < flo_[b][axis] + fhi_[b][axis];
+    });
+    const int l = split(first, mid);
+    const int r = split(mid, last);
     nodes_[id].left = l;
     nodes_[id].right = r;
     return id;
@@ -145,7 +163,7 @@ class FaceTree {
 
   std::vector<Node> nodes_;
   std::vector<int> order_;
-  std::vector<Vec> flo_, fhi_;
+  std::vector<Vec3f> flo_, fhi_;
 };
 
 }  // namespace steady::sweep::detail
