@@ -331,14 +331,24 @@ bool sharedVertexCrossing(const std::vector<Point>& P, const std::vector<Tri>& T
   return false;
 }
 
-// The point where the line through a and b meets the plane through p, q, r (exact, built
-// lazily: it is evaluated in rationals only if a later predicate needs it, and then in a few
-// operations on the input points).
-EPoint linePlanePoint(const EPoint& a, const EPoint& b, const EPoint& p, const EPoint& q, const EPoint& r) {
-  const EK::Vector_3 n = CGAL::cross_product(q - p, r - p);
-  const EK::FT da = n * (a - p), db = n * (b - p);
-  return a + (b - a) * (da / (da - db));
-}
+// The point where the line through a and b meets the plane through p, q, r, in any kernel.
+template <class K>
+struct LinePlanePoint {
+  using result_type = typename K::Point_3;
+  result_type operator()(const typename K::Point_3& a, const typename K::Point_3& b, const typename K::Point_3& p,
+                         const typename K::Point_3& q, const typename K::Point_3& r) const {
+    const typename K::Vector_3 n = CGAL::cross_product(q - p, r - p);
+    const typename K::FT da = n * (a - p), db = n * (b - p);
+    return a + (b - a) * (da / (da - db));
+  }
+};
+// ... as one lazy construction: a single node of the exact kernel's expression graph (its
+// interval approximation, and the five points it was made from until it is evaluated), instead
+// of a dozen for the same formula written with Epeck's operators. It is evaluated in rationals
+// only if a later predicate needs it, in a few operations on the input points. A large sweep has
+// a million such points, most never evaluated.
+const CGAL::Lazy_construction<EK, LinePlanePoint<EK::Approximate_kernel>, LinePlanePoint<EK::Exact_kernel>>
+    linePlanePoint{};
 
 template <class Result, class PointId>
 void addConstraints(const Result& x, std::vector<Constraint>& into, PointId&& pointId) {
