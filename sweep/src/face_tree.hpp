@@ -13,30 +13,33 @@
 namespace steady::sweep::detail {
 
 // A bounding-volume hierarchy of the boxes of triangles: median splits of the box centres along
-// the longest axis, up to 4 triangles per leaf. Boxes are stored in float, rounded outward (a
-// large arrangement has millions of faces), so every query may report a few more triangles
+// the longest axis, up to 4 triangles per leaf. The nodes' boxes are stored in float, rounded
+// outward, and the triangles' own boxes are computed from their vertices when a leaf is reached
+// (a large arrangement has millions of faces), so every query may report a few more triangles
 // than the exact boxes would, never fewer. Its queries only read it, so they may run
 // concurrently.
 class FaceTree {
  public:
   using Vec = Eigen::Vector3d;
+  using Faces = std::vector<std::array<int, 3>>;
 
-  void build(const std::vector<Vec>& vertices, const std::vector<std::array<int, 3>>& faces) {
+  // The tree keeps references to `vertices` and `faces`: they must outlive it, unchanged.
+  void build(const std::vector<Vec>& vertices, const Faces& faces) {
+    V_ = &vertices;
+    F_ = &faces;
     const std::size_t nf = faces.size();
-    flo_.resize(nf);
-    fhi_.resize(nf);
     order_.resize(nf);
+    for (std::size_t f = 0; f < nf; ++f) order_[f] = static_cast<int>(f);
+    // Box corners in float (outward) while building: centres and node boxes.
+    std::vector<Vec3f> lo(nf), hi(nf);
     for (std::size_t f = 0; f < nf; ++f) {
-      const Vec& a = vertices[faces[f][0]];
-      const Vec& b = vertices[faces[f][1]];
-      const Vec& c = vertices[faces[f][2]];
-      flo_[f] = down(a.cwiseMin(b).cwiseMin(c));
-      fhi_[f] = up(a.cwiseMax(b).cwiseMax(c));
-      order_[f] = static_cast<int>(f);
+      const Box b = faceBox(static_cast<int>(f));
+      lo[f] = down(b.lo);
+      hi[f] = up(b.hi);
     }
     nodes_.clear();
     nodes_.reserve(nf);  // at most nf nodes (leaves hold 2 to 4 faces); pages never touched stay free
-    if (nf > 0) split(0, static_cast<int>(nf));
+    if (nf > 0) split(0, static_cast<int>(nf), lo, hi);
   }
 
   // Calls visit(f) for every face whose box meets the box [lo, hi].
@@ -109,7 +112,11 @@ class FaceTree {
     return r;
   }
 
-  Box faceBox(int f) const { return {flo_[f].cast<double>(), fhi_[f].cast<double>()}; }
+  Box faceBox(int f) const {
+    const std::array<int, 3>& t = (*F_)[static_cast<std::size_t>(f)];
+    const Vec &a = (*V_)[t[0]], &b = (*V_)[t[1]], &c = (*V_)[t[2]];
+    return {a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c)};
+  }
 
   template <class NodeTest, class Visit>
   void forEach(NodeTest&& test, Visit&& visit) const {
@@ -129,17 +136,17 @@ class FaceTree {
     }
   }
 
-  int split(int first, int last) {
+  int split(int first, int last, const std::vector<Vec3f>& flo, const std::vector<Vec3f>& fhi) {
     const int id = static_cast<int>(nodes_.size());
     nodes_.emplace_back();
     Vec3f lo = Vec3f::Constant(std::numeric_limits<float>::infinity()), hi = -lo;
     Vec3f clo = lo, chi = hi;  // bounds of the box centres (doubled)
     for (int i = first; i < last; ++i) {
       const int f = order_[i];
-      lo = lo.cwiseMin(flo_[f]);
-      hi = hi.cwiseMax(fhi_[f]);
-      clo = clo.cwiseMin(flo_[f] + fhi_[f]);
-      chi = chi.cwiseMax(flo_[f] + fhi_[f]);
+      lo = lo.cwiseMin(flo[f]);
+      hi = hi.cwiseMax(fhi[f]);
+      clo = clo.cwiseMin(flo[f] + fhi[f]);
+      chi = chi.cwiseMax(flo[f] + fhi[f]);
     }
     nodes_[id].lo = lo;
     nodes_[id].hi = hi;
@@ -152,18 +159,19 @@ class FaceTree {
     (chi - clo).maxCoeff(&axis);
     const int mid = first + (last - first) / 2;
     std::nth_element(order_.begin() + first, order_.begin() + mid, order_.begin() + last, [&](int a, int b) {
-      return flo_[a][axis] + fhi_[a][axis] < flo_[b][axis] + fhi_[b][axis];
+      return flo[a][axis] + fhi[a][axis] < flo[b][axis] + fhi[b][axis];
     });
-    const int l = split(first, mid);
-    const int r = split(mid, last);
+    const int l = split(first, mid, flo, fhi);
+    const int r = split(mid, last, flo, fhi);
     nodes_[id].left = l;
     nodes_[id].right = r;
     return id;
   }
 
+  const std::vector<Vec>* V_ = nullptr;
+  const Faces* F_ = nullptr;
   std::vector<Node> nodes_;
   std::vector<int> order_;
-  std::vector<Vec3f> flo_, fhi_;
 };
 
 }  // namespace steady::sweep::detail

@@ -618,6 +618,8 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
     if (area > rep_area[p]) rep_area[p] = area, rep[p] = static_cast<int>(f);
   }
   const std::size_t np = rep.size();
+  parent = {};
+  patch_of_root = {};
 
   // The faces' boxes (approximate coordinates, widened by `pad` below so that they hold the
   // exact triangles) in a hierarchy, for the rays.
@@ -670,6 +672,53 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
   L.group.assign(np, 0);
   std::vector<int> todo(np);
   std::iota(todo.begin(), todo.end(), 0);
+  // Each ray meets the faces whose widened boxes its segment meets (its origin's interval box
+  // adds its own width), in parallel over the rays.
+  auto meet = [&](Ray& r, std::size_t f) {
+    if (r.degenerate) return;
+    // Faces cut from the representative face's cycle triangle lie in its plane and meet
+    // the origin (strictly inside the representative face) only in that face: decided
+    // without the exact test, which would have to evaluate the origin exactly.
+    if (A.source[f] == A.source[static_cast<std::size_t>(r.face)]) {
+      if (f == static_cast<std::size_t>(r.face)) r.jump += A.weight[f];
+      return;
+    }
+    const Tri& t = T[f];
+    const EPoint &a = P[t[0]], &b = P[t[1]], &c = P[t[2]];
+    const auto s_from = CGAL::orientation(a, b, c, r.from);
+    if (s_from == CGAL::COPLANAR) {
+      // The origin lies in this face's plane: an overlapping copy when inside the face.
+      const auto o1 = CGAL::coplanar_orientation(a, b, c, r.from);
+      const auto o2 = CGAL::coplanar_orientation(b, c, a, r.from);
+      const auto o3 = CGAL::coplanar_orientation(c, a, b, r.from);
+      if (o1 == CGAL::NEGATIVE || o2 == CGAL::NEGATIVE || o3 == CGAL::NEGATIVE) return;  // outside
+      if (o1 == CGAL::COLLINEAR || o2 == CGAL::COLLINEAR || o3 == CGAL::COLLINEAR) {
+        r.degenerate = true;  // on its boundary: try another point
+        return;
+      }
+      const Tri& u = T[static_cast<std::size_t>(r.face)];
+      const EK::Vector_3 m = CGAL::cross_product(b - a, c - a),
+                         n = CGAL::cross_product(P[u[1]] - P[u[0]], P[u[2]] - P[u[0]]);
+      r.jump += (CGAL::is_positive(m * n) ? 1 : -1) * A.weight[f];
+      r.group = std::min(r.group, L.patch[f]);
+      return;
+    }
+    const auto s_to = CGAL::orientation(a, b, c, r.to);
+    if (s_to == s_from || s_to == CGAL::COPLANAR) return;  // does not cross the plane
+    const auto o1 = CGAL::orientation(r.from, r.to, a, b), o2 = CGAL::orientation(r.from, r.to, b, c),
+               o3 = CGAL::orientation(r.from, r.to, c, a);
+    if (o1 == CGAL::COPLANAR || o2 == CGAL::COPLANAR || o3 == CGAL::COPLANAR) {
+      // The ray's line meets an edge's line: it hits the triangle's boundary (ambiguous:
+      // try another ray) unless two of the non-zero signs differ (it misses).
+      const bool p = o1 == CGAL::POSITIVE || o2 == CGAL::POSITIVE || o3 == CGAL::POSITIVE;
+      const bool q = o1 == CGAL::NEGATIVE || o2 == CGAL::NEGATIVE || o3 == CGAL::NEGATIVE;
+      if (!(p && q)) r.degenerate = true;
+      return;
+    }
+    if (o1 != o2 || o2 != o3) return;  // misses the triangle
+    // Leaving through the face along its normal counts +1 (the origin is behind it).
+    r.crossings += (s_from == CGAL::NEGATIVE ? 1 : -1) * A.weight[f];
+  };
   for (int round = 0; !todo.empty(); ++round) {
     if (round == 16)
       throw Error(ErrorCode::DegenerateInput,
@@ -677,75 +726,33 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
                       " patches of the swept surface could not be labelled (every ray met an edge); "
                       "this is a bug: please report it with the body and the motion");
     if (options.progress) options.progress({"label", round == 0 ? 0.0 : 0.9});
-    std::vector<Ray> rays;
-    rays.reserve(todo.size());
-    for (int p : todo) rays.push_back(makeRay(p, round == 0));
-    // Each ray meets the faces whose widened boxes its segment meets (its origin's interval box
-    // adds its own width), in parallel over the rays.
-    auto meet = [&](Ray& r, std::size_t f) {
-      if (r.degenerate) return;
-      // Faces cut from the representative face's cycle triangle lie in its plane and meet
-      // the origin (strictly inside the representative face) only in that face: decided
-      // without the exact test, which would have to evaluate the origin exactly.
-      if (A.source[f] == A.source[static_cast<std::size_t>(r.face)]) {
-        if (f == static_cast<std::size_t>(r.face)) r.jump += A.weight[f];
-        return;
-      }
-      const Tri& t = T[f];
-      const EPoint &a = P[t[0]], &b = P[t[1]], &c = P[t[2]];
-      const auto s_from = CGAL::orientation(a, b, c, r.from);
-      if (s_from == CGAL::COPLANAR) {
-        // The origin lies in this face's plane: an overlapping copy when inside the face.
-        const auto o1 = CGAL::coplanar_orientation(a, b, c, r.from);
-        const auto o2 = CGAL::coplanar_orientation(b, c, a, r.from);
-        const auto o3 = CGAL::coplanar_orientation(c, a, b, r.from);
-        if (o1 == CGAL::NEGATIVE || o2 == CGAL::NEGATIVE || o3 == CGAL::NEGATIVE) return;  // outside
-        if (o1 == CGAL::COLLINEAR || o2 == CGAL::COLLINEAR || o3 == CGAL::COLLINEAR) {
-          r.degenerate = true;  // on its boundary: try another point
-          return;
-        }
-        const Tri& u = T[static_cast<std::size_t>(r.face)];
-        const EK::Vector_3 m = CGAL::cross_product(b - a, c - a),
-                           n = CGAL::cross_product(P[u[1]] - P[u[0]], P[u[2]] - P[u[0]]);
-        r.jump += (CGAL::is_positive(m * n) ? 1 : -1) * A.weight[f];
-        r.group = std::min(r.group, L.patch[f]);
-        return;
-      }
-      const auto s_to = CGAL::orientation(a, b, c, r.to);
-      if (s_to == s_from || s_to == CGAL::COPLANAR) return;  // does not cross the plane
-      const auto o1 = CGAL::orientation(r.from, r.to, a, b), o2 = CGAL::orientation(r.from, r.to, b, c),
-                 o3 = CGAL::orientation(r.from, r.to, c, a);
-      if (o1 == CGAL::COPLANAR || o2 == CGAL::COPLANAR || o3 == CGAL::COPLANAR) {
-        // The ray's line meets an edge's line: it hits the triangle's boundary (ambiguous:
-        // try another ray) unless two of the non-zero signs differ (it misses).
-        const bool p = o1 == CGAL::POSITIVE || o2 == CGAL::POSITIVE || o3 == CGAL::POSITIVE;
-        const bool q = o1 == CGAL::NEGATIVE || o2 == CGAL::NEGATIVE || o3 == CGAL::NEGATIVE;
-        if (!(p && q)) r.degenerate = true;
-        return;
-      }
-      if (o1 != o2 || o2 != o3) return;  // misses the triangle
-      // Leaving through the face along its normal counts +1 (the origin is behind it).
-      r.crossings += (s_from == CGAL::NEGATIVE ? 1 : -1) * A.weight[f];
-    };
-    parallelFor(0, rays.size(), options.threads, [&](std::size_t i) {
-      Ray& r = rays[i];
-      const CGAL::Bbox_3 b = r.from.bbox();
-      const Vec from(0.5 * (b.xmin() + b.xmax()), 0.5 * (b.ymin() + b.ymax()), 0.5 * (b.zmin() + b.zmax()));
-      const Vec to(CGAL::to_double(r.to.x()), CGAL::to_double(r.to.y()), CGAL::to_double(r.to.z()));
-      const double width = std::max({b.xmax() - b.xmin(), b.ymax() - b.ymin(), b.zmax() - b.zmin()});
-      tree.alongSegment(from, to, 2 * pad + width, [&](int f) { meet(r, static_cast<std::size_t>(f)); });
-    });
+    // Rays in chunks (each holds exact points; a large sweep has hundreds of thousands).
+    constexpr std::size_t kChunk = 1 << 16;
     std::vector<int> again;
-    for (std::size_t r = 0; r < rays.size(); ++r) {
-      const int p = todo[r];
-      if (rays[r].degenerate) {
-        again.push_back(p);
-        continue;
+    std::vector<Ray> rays;
+    for (std::size_t c0 = 0; c0 < todo.size(); c0 += kChunk) {
+      const std::size_t c1 = std::min(todo.size(), c0 + kChunk);
+      rays.clear();
+      for (std::size_t i = c0; i < c1; ++i) rays.push_back(makeRay(todo[i], round == 0));
+      parallelFor(0, rays.size(), options.threads, [&](std::size_t i) {
+        Ray& r = rays[i];
+        const CGAL::Bbox_3 b = r.from.bbox();
+        const Vec from(0.5 * (b.xmin() + b.xmax()), 0.5 * (b.ymin() + b.ymax()), 0.5 * (b.zmin() + b.zmax()));
+        const Vec to(CGAL::to_double(r.to.x()), CGAL::to_double(r.to.y()), CGAL::to_double(r.to.z()));
+        const double width = std::max({b.xmax() - b.xmin(), b.ymax() - b.ymin(), b.zmax() - b.zmin()});
+        tree.alongSegment(from, to, 2 * pad + width, [&](int f) { meet(r, static_cast<std::size_t>(f)); });
+      });
+      for (std::size_t r = 0; r < rays.size(); ++r) {
+        const int p = todo[c0 + r];
+        if (rays[r].degenerate) {
+          again.push_back(p);
+          continue;
+        }
+        // A ray cast to the back side counts w_back = w_front + jump.
+        L.w_front[p] = rays[r].back ? rays[r].crossings - rays[r].jump : rays[r].crossings;
+        L.jump[p] = rays[r].jump;
+        L.group[p] = rays[r].group;
       }
-      // A ray cast to the back side counts w_back = w_front + jump.
-      L.w_front[p] = rays[r].back ? rays[r].crossings - rays[r].jump : rays[r].crossings;
-      L.jump[p] = rays[r].jump;
-      L.group[p] = rays[r].group;
     }
     L.retries += again.size();
     todo.swap(again);
