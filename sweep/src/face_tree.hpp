@@ -30,16 +30,15 @@ class FaceTree {
     const std::size_t nf = faces.size();
     order_.resize(nf);
     for (std::size_t f = 0; f < nf; ++f) order_[f] = static_cast<int>(f);
-    // Box corners in float (outward) while building: centres and node boxes.
-    std::vector<Vec3f> lo(nf), hi(nf);
+    // The box centres (doubled, in float) while building.
+    std::vector<Vec3f> centre(nf);
     for (std::size_t f = 0; f < nf; ++f) {
       const Box b = faceBox(static_cast<int>(f));
-      lo[f] = down(b.lo);
-      hi[f] = up(b.hi);
+      centre[f] = (b.lo + b.hi).cast<float>();
     }
     nodes_.clear();
     nodes_.reserve(nf);  // at most nf nodes (leaves hold 2 to 4 faces); pages never touched stay free
-    if (nf > 0) split(0, static_cast<int>(nf), lo, hi);
+    if (nf > 0) split(0, static_cast<int>(nf), centre);
   }
 
   // Calls visit(f) for every face whose box meets the box [lo, hi].
@@ -136,35 +135,40 @@ class FaceTree {
     }
   }
 
-  int split(int first, int last, const std::vector<Vec3f>& flo, const std::vector<Vec3f>& fhi) {
+  // Builds the subtree of order_[first, last); node boxes come from the faces at the leaves and
+  // from the children above them.
+  int split(int first, int last, const std::vector<Vec3f>& centre) {
     const int id = static_cast<int>(nodes_.size());
     nodes_.emplace_back();
-    Vec3f lo = Vec3f::Constant(std::numeric_limits<float>::infinity()), hi = -lo;
-    Vec3f clo = lo, chi = hi;  // bounds of the box centres (doubled)
-    for (int i = first; i < last; ++i) {
-      const int f = order_[i];
-      lo = lo.cwiseMin(flo[f]);
-      hi = hi.cwiseMax(fhi[f]);
-      clo = clo.cwiseMin(flo[f] + fhi[f]);
-      chi = chi.cwiseMax(flo[f] + fhi[f]);
-    }
-    nodes_[id].lo = lo;
-    nodes_[id].hi = hi;
     if (last - first <= 4) {
+      Vec lo = Vec::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+      for (int i = first; i < last; ++i) {
+        const Box b = faceBox(order_[i]);
+        lo = lo.cwiseMin(b.lo);
+        hi = hi.cwiseMax(b.hi);
+      }
+      nodes_[id].lo = down(lo);
+      nodes_[id].hi = up(hi);
       nodes_[id].first = first;
       nodes_[id].count = last - first;
       return id;
     }
+    Vec3f clo = Vec3f::Constant(std::numeric_limits<float>::infinity()), chi = -clo;
+    for (int i = first; i < last; ++i) {
+      clo = clo.cwiseMin(centre[order_[i]]);
+      chi = chi.cwiseMax(centre[order_[i]]);
+    }
     int axis = 0;
     (chi - clo).maxCoeff(&axis);
     const int mid = first + (last - first) / 2;
-    std::nth_element(order_.begin() + first, order_.begin() + mid, order_.begin() + last, [&](int a, int b) {
-      return flo[a][axis] + fhi[a][axis] < flo[b][axis] + fhi[b][axis];
-    });
-    const int l = split(first, mid, flo, fhi);
-    const int r = split(mid, last, flo, fhi);
+    std::nth_element(order_.begin() + first, order_.begin() + mid, order_.begin() + last,
+                     [&](int a, int b) { return centre[a][axis] < centre[b][axis]; });
+    const int l = split(first, mid, centre);
+    const int r = split(mid, last, centre);
     nodes_[id].left = l;
     nodes_[id].right = r;
+    nodes_[id].lo = nodes_[l].lo.cwiseMin(nodes_[r].lo);
+    nodes_[id].hi = nodes_[l].hi.cwiseMax(nodes_[r].hi);
     return id;
   }
 

@@ -194,46 +194,51 @@ struct Arrangement {
 // symbolic perturbation) into one face whose weight is the net number of layers; faces whose
 // layers cancel are dropped, as they change no winding number.
 void mergeCoincident(Arrangement& A) {
-  struct Hash {
-    std::size_t operator()(const Tri& t) const {
-      return (static_cast<std::size_t>(t[0]) * 73856093u) ^ (static_cast<std::size_t>(t[1]) * 19349663u) ^
-             (static_cast<std::size_t>(t[2]) * 83492791u);
-    }
-  };
-  std::unordered_map<Tri, int, Hash> first;
-  first.reserve(A.faces.size());
-  std::vector<Tri> faces;
-  std::vector<int> weight, source;
-  for (std::size_t g = 0; g < A.faces.size(); ++g) {
-    const Tri& t = A.faces[g];
-    Tri key = t;
-    std::sort(key.begin(), key.end());
-    auto [it, added] = first.emplace(key, static_cast<int>(faces.size()));
-    if (added) {
-      faces.push_back(t);
-      weight.push_back(1);
-      source.push_back(A.source[g]);
-      continue;
-    }
-    ++A.merged;
-    const Tri& u = faces[it->second];
-    const bool same = (t[0] == u[0] && t[1] == u[1]) || (t[0] == u[1] && t[1] == u[2]) || (t[0] == u[2] && t[1] == u[0]);
-    weight[it->second] += same ? 1 : -1;
+  const std::size_t n = A.faces.size();
+  // Faces sorted by their sorted corners, then by number: a run is one set of coincident
+  // faces, and its first is the first of them in face order, which stands for them all.
+  std::vector<std::pair<Tri, int>> key(n);
+  for (std::size_t g = 0; g < n; ++g) {
+    Tri k = A.faces[g];
+    std::sort(k.begin(), k.end());
+    key[g] = {k, static_cast<int>(g)};
   }
-  A.faces.clear();
-  A.weight.clear();
-  A.source.clear();
-  for (std::size_t f = 0; f < faces.size(); ++f) {
+  std::sort(key.begin(), key.end());
+  std::vector<int> weight(n, 0);  // per face standing for its set: the net number of layers
+  std::vector<char> stands(n, 0);
+  for (std::size_t i = 0, j = 0; i < n; i = j) {
+    const int first = key[i].second;
+    const Tri& u = A.faces[static_cast<std::size_t>(first)];
+    stands[static_cast<std::size_t>(first)] = 1;
+    for (j = i; j < n && key[j].first == key[i].first; ++j) {
+      const Tri& t = A.faces[static_cast<std::size_t>(key[j].second)];
+      const bool same = (t[0] == u[0] && t[1] == u[1]) || (t[0] == u[1] && t[1] == u[2]) || (t[0] == u[2] && t[1] == u[0]);
+      weight[static_cast<std::size_t>(first)] += same ? 1 : -1;
+    }
+    A.merged += j - i - 1;
+  }
+  key = {};
+  std::size_t out = 0;
+  A.weight.assign(n, 0);
+  for (std::size_t f = 0; f < n; ++f) {
+    if (!stands[f]) continue;
     if (weight[f] == 0) {
       ++A.cancelled;
       continue;
     }
-    Tri t = faces[f];
+    Tri t = A.faces[f];
     if (weight[f] < 0) std::swap(t[1], t[2]);
-    A.faces.push_back(t);
-    A.weight.push_back(std::abs(weight[f]));
-    A.source.push_back(source[f]);
+    A.faces[out] = t;
+    A.weight[out] = std::abs(weight[f]);
+    A.source[out] = A.source[f];
+    ++out;
   }
+  A.faces.resize(out);
+  A.weight.resize(out);
+  A.source.resize(out);
+  A.faces.shrink_to_fit();
+  A.weight.shrink_to_fit();
+  A.source.shrink_to_fit();
 }
 
 // A constraint inside one triangle: a segment between two points of the arrangement (indices
