@@ -295,28 +295,13 @@ bool meshesIntersect(const Mesh& moving, const Affine3& pose, const Mesh& fixed)
 // real: the surfaces intersect within one sample step after it, or it is a touch (crossing 0).
 void randomScenes(bool both_moving, int trials, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> U(-1.0, 1.0);
   int contacts = 0, none = 0, earlier = 0;
   double worst = 0;
-  const steady::MotionOptions split{{}, steady::NoSamPolicy::Split, 12};
   for (int trial = 0; trial < trials; ++trial) {
-    const Mesh fixed = trial % 2 ? octahedron(V(0, 0, 0), 1.0) : box(V(-0.8, -0.6, -0.7), V(0.7, 0.9, 0.6));
-    const Mesh moving = trial % 3 ? octahedron(V(0, 0, 0), 0.6) : box(V(-0.5, -0.3, -0.4), V(0.4, 0.5, 0.3));
-    // Start 2.5 away in a random direction, end near the other side, with a random turn and
-    // shear/scale.
-    Affine3 B, C;
-    if (!steady_test::randomApproach(rng, false, B, C)) continue;
-    std::vector<Affine3> keys{B, C};
-    if (trial % 4 == 0) keys.insert(keys.begin() + 1, steady::sam(B, 0.5, C) * Affine3::rotation(V(0, 0, 1), 0.5));
-    const Motion3 motion = Motion3::polySam(keys, split);
-    // The partner: still, or wandering about the origin with its own key times.
-    std::vector<steady::Keyframe<3>> fk{{0.0, Affine3()}, {1.0, Affine3()}};
-    if (both_moving) {
-      fk = {{0.0, Affine3::rotation(V(U(rng), U(rng), U(rng)), U(rng))},
-            {0.37, Affine3::translation(0.3 * V(U(rng), U(rng), U(rng))) * Affine3::rotation(V(U(rng), U(rng), U(rng)), U(rng))},
-            {1.0, Affine3::translation(0.3 * V(U(rng), U(rng), U(rng)))}};
-    }
-    const Motion3 partner = Motion3::polySam(fk, split);
+    const auto scene = steady_test::twoBodyScene(rng, trial, both_moving);
+    if (!scene) continue;
+    const Mesh &fixed = scene->fixed, &moving = scene->moving;
+    const Motion3 &motion = scene->motion, &partner = scene->partner;
     const auto got = steady::firstContact({moving.v, moving.f, motion}, {fixed.v, fixed.f, partner});
     auto intersect = [&](double t) {
       Mesh posed = fixed;

@@ -114,38 +114,19 @@ void expectDeterministic(const Queries& queries, int repeats = 3) {
 // Two boxes and octahedra on random SAMs and 2-span polySAMs (the scenes of CollideOracle's
 // two-body tests): first contact and every contact event, with a still partner and a moving one.
 TEST(CollideDeterminism, TwoBodyQueriesAreBitIdenticalAcrossRunsAndThreads) {
-  struct Scene {
-    Mesh a, b;
-    Motion3 ma, mb;
-  };
-  std::vector<std::shared_ptr<const Scene>> scenes;
+  std::vector<std::shared_ptr<const steady_test::TwoBodyScene>> scenes;
   std::mt19937_64 rng(31415926);
-  std::uniform_real_distribution<double> U(-1.0, 1.0);
-  const steady::MotionOptions split{{}, steady::NoSamPolicy::Split, 12};
   for (int trial = 0; trial < 60; ++trial) {
-    const Mesh fixed = trial % 2 ? octahedron(V(0, 0, 0), 1.0) : box(V(-0.8, -0.6, -0.7), V(0.7, 0.9, 0.6));
-    const Mesh moving = trial % 3 ? octahedron(V(0, 0, 0), 0.6) : box(V(-0.5, -0.3, -0.4), V(0.4, 0.5, 0.3));
-    Affine3 B, C;
-    if (!steady_test::randomApproach(rng, false, B, C)) continue;
-    std::vector<Affine3> keys{B, C};
-    if (trial % 4 == 0) keys.insert(keys.begin() + 1, steady::sam(B, 0.5, C) * Affine3::rotation(V(0, 0, 1), 0.5));
-    std::vector<steady::Keyframe<3>> fk{{0.0, Affine3()}, {1.0, Affine3()}};
-    if (trial % 2) {
-      fk = {{0.0, Affine3::rotation(V(U(rng), U(rng), U(rng)), U(rng))},
-            {0.37, Affine3::translation(0.3 * V(U(rng), U(rng), U(rng))) *
-                       Affine3::rotation(V(U(rng), U(rng), U(rng)), U(rng))},
-            {1.0, Affine3::translation(0.3 * V(U(rng), U(rng), U(rng)))}};
-    }
-    scenes.push_back(std::make_shared<const Scene>(
-        Scene{moving, fixed, Motion3::polySam(keys, split), Motion3::polySam(fk, split)}));
+    if (auto scene = steady_test::twoBodyScene(rng, trial, trial % 2 == 1))
+      scenes.push_back(std::make_shared<const steady_test::TwoBodyScene>(std::move(*scene)));
   }
   Queries queries;
   for (const auto& sc : scenes) {
     queries.push_back([sc] {
-      return fingerprint(steady::firstContact({sc->a.v, sc->a.f, sc->ma}, {sc->b.v, sc->b.f, sc->mb}));
+      return fingerprint(steady::firstContact({sc->moving.v, sc->moving.f, sc->motion}, {sc->fixed.v, sc->fixed.f, sc->partner}));
     });
     queries.push_back([sc] {
-      return fingerprint(steady::contacts({sc->a.v, sc->a.f, sc->ma}, {sc->b.v, sc->b.f, sc->mb}));
+      return fingerprint(steady::contacts({sc->moving.v, sc->moving.f, sc->motion}, {sc->fixed.v, sc->fixed.f, sc->partner}));
     });
   }
   EXPECT_GT(queries.size(), 80u);
