@@ -1028,7 +1028,8 @@ constexpr double kPinchStep = 1e-3;
 // the fans, which touched at one point, no longer meet. First towards the centroid of each
 // copy's own fan ring (each fan lies on its own side of the point, whether it bounds a solid
 // cone or an empty one); where that fails (sheets touching tangentially), into the solid
-// behind the fan (against its area-weighted normal), then out of it. The step is kPinchStep
+// behind the fan (against its area-weighted normal), then out of it; then towards its ring the
+// copy whose fan opens the widest alone, then the others alone. The step is kPinchStep
 // times the ring distance and at most kPinchStep ε; a group whose moved faces would cross any
 // face (exact test) halves its step, 20 times per direction, and is put back when no direction
 // works. Returns the number of vertices that still share a position.
@@ -1043,27 +1044,39 @@ std::size_t separatePinches(std::vector<Vec>& V, const std::vector<Tri>& T, doub
   for (std::size_t f = 0; f < T.size(); ++f)
     for (int v : T[f]) faces_of[v].push_back(static_cast<int>(f));
   // Per copy: its original position and its three candidate steps.
-  constexpr int kDirections = 3, kHalvings = 20;
+  constexpr int kDirections = 5, kHalvings = 20;
   std::vector<int> group_of(V.size(), -1);
   std::vector<std::array<Vec, kDirections>> dir(V.size());
   std::vector<Vec> origin(V.size(), Vec::Zero());
+  std::vector<double> opening(V.size(), 0.0);  // per copy: |vector area| / area of its fan
   for (std::size_t g = 0; g < groups.size(); ++g)
     for (int v : groups[g]) {
       group_of[v] = static_cast<int>(g);
       origin[v] = V[v];
       Vec sum = Vec::Zero(), normal = Vec::Zero();
       int n = 0;
+      double area = 0;
       for (int f : faces_of[v]) {
         for (int w : T[f])
           if (w != v) sum += V[w], ++n;
-        normal += (V[T[f][1]] - V[T[f][0]]).cross(V[T[f][2]] - V[T[f][0]]);
+        const Vec m = (V[T[f][1]] - V[T[f][0]]).cross(V[T[f][2]] - V[T[f][0]]);
+        normal += m;
+        area += m.norm();
       }
       const Vec d = sum / std::max(n, 1) - V[v];
       const double len = d.norm(), step = std::min(kPinchStep * len, kPinchStep * eps);
       for (auto& x : dir[v]) x.setZero();
       if (len > 0) dir[v][0] = d / len * step;
       if (normal.norm() > 0) dir[v][1] = -normal.normalized() * step, dir[v][2] = -dir[v][1];
+      opening[v] = area > 0 ? normal.norm() / area : 0.0;
     }
+  // Directions 3 and 4 move only some copies towards their rings: the copy whose fan opens the
+  // widest (the largest vector area for its area: a folded fan, whose faces nearly cancel, can
+  // move nowhere without crossing), then the others.
+  for (const std::vector<int>& group : groups) {
+    const int widest = *std::max_element(group.begin(), group.end(), [&](int a, int b) { return opening[a] < opening[b]; });
+    for (int v : group) (v == widest ? dir[v][3] : dir[v][4]) = dir[v][0];
+  }
   std::vector<double> scale(groups.size(), 1.0);
   std::vector<int> direction(groups.size(), 0);
   std::vector<int> todo(groups.size());
