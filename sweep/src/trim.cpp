@@ -1043,7 +1043,7 @@ std::size_t separatePinches(std::vector<Vec>& V, const std::vector<Tri>& T, doub
   std::vector<std::vector<int>> faces_of(V.size());
   for (std::size_t f = 0; f < T.size(); ++f)
     for (int v : T[f]) faces_of[v].push_back(static_cast<int>(f));
-  // Per copy: its original position and its three candidate steps.
+  // Per copy: its original position and its candidate steps (kDirections).
   constexpr int kDirections = 5, kHalvings = 20;
   std::vector<int> group_of(V.size(), -1);
   std::vector<std::array<Vec, kDirections>> dir(V.size());
