@@ -54,6 +54,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <random>
@@ -242,18 +243,82 @@ void mergeCoincident(Arrangement& A) {
 }
 
 // A constraint inside one triangle: a segment between two points of the arrangement (indices
-// into Arrangement::points, a != b), or a single point (a == b).
+// into Arrangement::points, a != b), or a single point (a == b). `other` >= 0 is the triangle
+// whose crossing made it when that crossing was found without a general intersection: the two
+// planes then cross in a line, and the segment lies on it. Otherwise `other` is -1.
 struct Constraint {
   int a, b;
+  int other = -1;
 };
 
-struct VertexInfo {
-  int id = -1;
+// What the triangulation of one triangle knows of its points without arithmetic: the lines
+// each lies on by construction, named by a key (see lineOfPlane, lineOfEdge). Three points on
+// one line are collinear, so orientation tests that the interval filter cannot decide (points
+// on the triangle's edges, on one constraint, or where constraints cross, which are exactly
+// collinear) are answered without evaluating the points in rationals. Points are recognised by
+// their lazy representation (copies of a lazy point share it).
+class LineFacts {
+ public:
+  // Registers a projected point with the keys of the lines it lies on (sorted, unique).
+  void add(const EK::Point_2& p, std::vector<std::uint64_t> lines) {
+    std::sort(lines.begin(), lines.end());
+    lines.erase(std::unique(lines.begin(), lines.end()), lines.end());
+    index_.emplace(p.id(), static_cast<int>(lines_.size()));
+    lines_.push_back(std::move(lines));
+  }
+  // True if p, q and r are known to lie on one line (or two of them are one point). False
+  // says nothing.
+  bool collinear(const EK::Point_2& p, const EK::Point_2& q, const EK::Point_2& r) const {
+    if (p.id() == q.id() || q.id() == r.id() || r.id() == p.id()) return true;
+    const auto a = index_.find(p.id()), b = index_.find(q.id()), c = index_.find(r.id());
+    if (a == index_.end() || b == index_.end() || c == index_.end()) return false;
+    const auto &la = lines_[a->second], &lb = lines_[b->second], &lc = lines_[c->second];
+    for (const std::uint64_t k : la)
+      if (std::binary_search(lb.begin(), lb.end(), k) && std::binary_search(lc.begin(), lc.end(), k)) return true;
+    return false;
+  }
+
+ private:
+  std::unordered_map<CGAL::Handle::Id_type, int> index_;
+  std::vector<std::vector<std::uint64_t>> lines_;
 };
-using Vb = CGAL::Triangulation_vertex_base_with_info_2<VertexInfo, EK>;
-using Fb = CGAL::Constrained_triangulation_face_base_2<EK>;
+
+// Line keys within one triangle's plane: where another triangle's plane crosses it (that
+// triangle's number), or the line of one of its edges.
+std::uint64_t lineOfPlane(int tri) { return static_cast<std::uint64_t>(tri); }
+std::uint64_t lineOfEdge(std::uint64_t edge_key) { return edge_key | (std::uint64_t{1} << 63); }
+
+// Orientation of three projected points: the interval filter, then the known lines, then exact
+// arithmetic. The answer is always the exact orientation.
+struct KnownLinesOrientation {
+  const LineFacts* facts = nullptr;
+  CGAL::Orientation operator()(const EK::Point_2& p, const EK::Point_2& q, const EK::Point_2& r) const {
+    {
+      CGAL::Protect_FPU_rounding<true> guard;
+      const auto &a = p.approx(), &b = q.approx(), &c = r.approx();
+      const CGAL::Uncertain<CGAL::Orientation> o = CGAL::orientationC2(a.x(), a.y(), b.x(), b.y(), c.x(), c.y());
+      if (CGAL::is_certain(o)) return CGAL::get_certain(o);
+    }
+    if (facts && facts->collinear(p, q, r)) return CGAL::COLLINEAR;
+    return EK::Orientation_2()(p, q, r);
+  }
+};
+
+// The exact kernel, with the orientation above.
+struct CdtTraits : EK {
+  using Orientation_2 = KnownLinesOrientation;
+  const LineFacts* facts = nullptr;
+  Orientation_2 orientation_2_object() const { return {facts}; }
+};
+
+constexpr int kNoId = std::numeric_limits<int>::min();
+struct VertexInfo {
+  int id = kNoId;
+};
+using Vb = CGAL::Triangulation_vertex_base_with_info_2<VertexInfo, CdtTraits>;
+using Fb = CGAL::Constrained_triangulation_face_base_2<CdtTraits>;
 using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
-using CDT = CGAL::Constrained_Delaunay_triangulation_2<EK, Tds, CGAL::Exact_intersections_tag>;
+using CDT = CGAL::Constrained_Delaunay_triangulation_2<CdtTraits, Tds, CGAL::Exact_intersections_tag>;
 
 // A point where the edge (a, b) of one triangle crosses the interior of another triangle,
 // `tri` (an index into the arrangement's triangles), named by these three numbers. Two
@@ -447,11 +512,17 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
     }
   };
   std::unordered_map<std::pair<std::uint64_t, int>, int, CutHash> cut_points;
+  // Per point: the edge (a, b) of the first cut that named it (0: none), so that the
+  // triangulation of a triangle with that edge knows the point lies on it.
+  std::vector<std::uint64_t> edge_of(ep.size(), 0);
   auto cutPoint = [&](const Cut& c) {
     auto [it, added] = cut_points.emplace(std::make_pair(edgeKey(c.a, c.b), c.tri), -1);
     if (added) {
       const Tri& y = T[c.tri];
-      it->second = pointId(linePlanePoint(ep[c.a], ep[c.b], ep[y[0]], ep[y[1]], ep[y[2]]));
+      const int id = pointId(linePlanePoint(ep[c.a], ep[c.b], ep[y[0]], ep[y[1]], ep[y[2]]));
+      if (edge_of.size() <= static_cast<std::size_t>(id)) edge_of.resize(static_cast<std::size_t>(id) + 1, 0);
+      if (!edge_of[id]) edge_of[id] = edgeKey(c.a, c.b);
+      it->second = id;
     }
     return it->second;
   };
@@ -470,9 +541,9 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
       c = {sv[0], cutPoint(cut[0])};
     else if (n == 0 && (plain_pair ? generalCrossing(ip, T, i, j, cut) : generalCrossing(ep, T, i, j, cut)))
       c = {cutPoint(cut[0]), cutPoint(cut[1])};
-    if (c.a >= 0) {
-      cons[i].push_back(c);
-      cons[j].push_back(c);
+    if (c.a >= 0) {  // (the planes cross in a line: the pair is not coplanar)
+      cons[i].push_back({c.a, c.b, j});
+      cons[j].push_back({c.a, c.b, i});
       continue;
     }
     const EK::Triangle_3 a(ep[T[i][0]], ep[T[i][1]], ep[T[i][2]]), b(ep[T[j][0]], ep[T[j][1]], ep[T[j][2]]);
@@ -490,9 +561,24 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   // triangles run in parallel (they only read the exact points, which the lazy kernel
   // evaluates thread-safely); their faces and new points are then numbered in triangle order
   // on the calling thread, so the arrangement is the same for any number of threads.
+  // Where two constraints of a triangle cross (named constraints, on the lines where the planes
+  // of triangles u and v cross its plane), the point is the one point of the three planes,
+  // named by the three triangles' numbers (sorted): the same point in all three triangulations,
+  // made and numbered once. It is inserted before the constraints, with the lines it lies on,
+  // so the triangulation never constructs it.
+  using Name = std::array<int, 3>;
+  struct NameHash {
+    std::size_t operator()(const Name& n) const {
+      return std::hash<std::uint64_t>()((static_cast<std::uint64_t>(static_cast<std::uint32_t>(n[0])) << 32 |
+                                         static_cast<std::uint32_t>(n[1])) *
+                                            0x9E3779B97F4A7C15ull ^
+                                        static_cast<std::uint32_t>(n[2]));
+    }
+  };
   struct Retriangulation {
     std::vector<Tri> faces;     // a corner -(k + 1) is the point fresh[k]
     std::vector<EPoint> fresh;  // points made where constraints cross
+    std::vector<Name> names;    // per fresh point: its name, or {-1, -1, -1} if the triangulation made it
   };
   auto retriangulate = [&](std::size_t t, Retriangulation& r) {
     const EPoint A = out.points[T[t][0]], B = out.points[T[t][1]], C = out.points[T[t][2]];
@@ -506,27 +592,79 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
     const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
     const bool flip = CGAL::is_negative(n[k]);
     auto project = [&](const EPoint& p) { return EK::Point_2(p[k1], p[k2]); };
-    CDT cdt;
+    // The lines the points lie on: the triangle's edges through its corners and its cut points
+    // (edge_of), and for each named constraint the line of the other triangle's plane.
+    const std::uint64_t edges[3] = {edgeKey(T[t][0], T[t][1]), edgeKey(T[t][1], T[t][2]), edgeKey(T[t][2], T[t][0])};
+    std::unordered_map<int, std::vector<std::uint64_t>> lines_of;
+    for (int c = 0; c < 3; ++c) lines_of[T[t][c]] = {lineOfEdge(edges[c]), lineOfEdge(edges[(c + 2) % 3])};
+    for (const Constraint& c : cons[t])
+      for (const int id : {c.a, c.b}) {
+        std::vector<std::uint64_t>& l = lines_of[id];
+        if (c.other >= 0) l.push_back(lineOfPlane(c.other));
+        const std::uint64_t e = static_cast<std::size_t>(id) < edge_of.size() ? edge_of[id] : 0;
+        if (e && (e == edges[0] || e == edges[1] || e == edges[2])) l.push_back(lineOfEdge(e));
+      }
+    LineFacts facts;
+    CdtTraits traits;
+    traits.facts = &facts;
+    CDT cdt(traits);
     // Distinct numbers are distinct points of the plane, so distinct vertices.
-    std::unordered_map<int, CDT::Vertex_handle> vertex_of;
-    auto vertex = [&](int id) {
-      auto [it, added] = vertex_of.emplace(id, CDT::Vertex_handle());
-      if (added) (it->second = cdt.insert(project(out.points[id])))->info().id = id;
+    std::unordered_map<int, std::pair<CDT::Vertex_handle, EK::Point_2>> vertex_of;
+    auto vertex = [&](int id) -> const std::pair<CDT::Vertex_handle, EK::Point_2>& {
+      auto [it, added] = vertex_of.emplace(id, std::make_pair(CDT::Vertex_handle(), EK::Point_2()));
+      if (added) {
+        it->second.second = project(out.points[id]);
+        facts.add(it->second.second, lines_of[id]);
+        (it->second.first = cdt.insert(it->second.second))->info().id = id;
+      }
       return it->second;
     };
     for (int c = 0; c < 3; ++c) vertex(T[t][c]);
-    for (const Constraint& c : cons[t]) {
-      const auto va = vertex(c.a);
-      if (c.b != c.a) cdt.insert_constraint(va, vertex(c.b));
+    for (const Constraint& c : cons[t]) vertex(c.a), vertex(c.b);
+    // Named constraints that cross at a point inside both (all four orientations strict).
+    for (std::size_t x = 0; x < cons[t].size(); ++x) {
+      const Constraint& c = cons[t][x];
+      if (c.other < 0 || c.a == c.b) continue;
+      const EK::Point_2 &p1 = vertex_of.at(c.a).second, &q1 = vertex_of.at(c.b).second;
+      const CGAL::Bbox_2 box1 = p1.bbox() + q1.bbox();
+      for (std::size_t y = x + 1; y < cons[t].size(); ++y) {
+        const Constraint& d = cons[t][y];
+        if (d.other < 0 || d.a == d.b || d.other == c.other) continue;
+        if (d.a == c.a || d.a == c.b || d.b == c.a || d.b == c.b) continue;
+        const EK::Point_2 &p2 = vertex_of.at(d.a).second, &q2 = vertex_of.at(d.b).second;
+        if (!CGAL::do_overlap(box1, p2.bbox() + q2.bbox())) continue;
+        const KnownLinesOrientation orient{&facts};
+        const CGAL::Orientation o1 = orient(p1, q1, p2), o2 = orient(p1, q1, q2);
+        if (o1 == CGAL::COLLINEAR || o2 == CGAL::COLLINEAR || o1 == o2) continue;
+        const CGAL::Orientation o3 = orient(p2, q2, p1), o4 = orient(p2, q2, q1);
+        if (o3 == CGAL::COLLINEAR || o4 == CGAL::COLLINEAR || o3 == o4) continue;
+        // The line of the constraint from the lower-numbered triangle meets the other's plane.
+        const Constraint& on = c.other < d.other ? c : d;
+        const Tri& w = T[c.other < d.other ? d.other : c.other];
+        const EPoint X = linePlanePoint(out.points[on.a], out.points[on.b], out.points[w[0]], out.points[w[1]],
+                                        out.points[w[2]]);
+        const EK::Point_2 x2 = project(X);
+        facts.add(x2, {lineOfPlane(c.other), lineOfPlane(d.other)});
+        const CDT::Vertex_handle v = cdt.insert(x2);
+        if (v->info().id != kNoId) continue;  // a point already there (several constraints cross at it)
+        r.fresh.push_back(X);
+        Name name{{static_cast<int>(t), c.other, d.other}};
+        std::sort(name.begin(), name.end());
+        r.names.push_back(name);
+        v->info().id = -static_cast<int>(r.fresh.size());
+      }
     }
+    for (const Constraint& c : cons[t])
+      if (c.b != c.a) cdt.insert_constraint(vertex_of.at(c.a).first, vertex_of.at(c.b).first);
     for (auto v : cdt.finite_vertex_handles()) {
-      if (v->info().id >= 0) continue;
+      if (v->info().id != kNoId) continue;
       // Lift onto the triangle's plane: n·(X - A) = 0 solved for X_k (exact).
       const EK::FT xk1 = v->point().x(), xk2 = v->point().y();
       const EK::FT xk = A[k] - (n[k1] * (xk1 - A[k1]) + n[k2] * (xk2 - A[k2])) / n[k];
       EK::FT c3[3];
       c3[k] = xk, c3[k1] = xk1, c3[k2] = xk2;
       r.fresh.emplace_back(c3[0], c3[1], c3[2]);
+      r.names.push_back({{-1, -1, -1}});
       v->info().id = -static_cast<int>(r.fresh.size());
     }
     for (auto f : cdt.finite_face_handles()) {
@@ -537,6 +675,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   };
   constexpr std::size_t kBlock = 4096;
   std::vector<Retriangulation> block;
+  std::unordered_map<Name, int, NameHash> named;
   for (std::size_t t0 = 0; t0 < T.size(); t0 += kBlock) {
     if (options.progress)
       options.progress({"intersect", 0.5 + 0.5 * static_cast<double>(t0) / static_cast<double>(T.size())});
@@ -554,7 +693,15 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
       Retriangulation& r = block[t - t0];
       std::vector<int> fresh_id;
       fresh_id.reserve(r.fresh.size());
-      for (const EPoint& x : r.fresh) fresh_id.push_back(pointId(x));
+      for (std::size_t k = 0; k < r.fresh.size(); ++k) {
+        if (r.names[k][0] < 0) {
+          fresh_id.push_back(pointId(r.fresh[k]));
+          continue;
+        }
+        auto [it, added] = named.emplace(r.names[k], 0);
+        if (added) it->second = pointId(r.fresh[k]);
+        fresh_id.push_back(it->second);
+      }
       for (Tri x : r.faces) {
         for (int& v : x)
           if (v < 0) v = fresh_id[static_cast<std::size_t>(-v - 1)];
