@@ -109,6 +109,7 @@ struct SweptVolume::Impl {
     double binv_norm = 0;  // >= |L_B^-1|_2
     double b_norm = 0;     // >= |L_B|_2
     std::vector<Vec> W;    // body vertices posed by the start pose
+    double w_max = 0;      // largest |W|
     std::vector<Vec> m;    // face planes m . z = h in the frame of the span start
     std::vector<double> h;
   };
@@ -143,13 +144,14 @@ struct SweptVolume::Impl {
   }
 
   void addSpan(const Span3& span, double t0, double t1, const RootOptions& ro) {
-    SpanData sd{SpanRoots(span, ro), t0, t1, span.log().M, span.log().u, 0.0, span.start().inverse(), 0.0, 0.0, {}, {}, {}};
+    SpanData sd{SpanRoots(span, ro), t0, t1, span.log().M, span.log().u, 0.0, span.start().inverse(), 0.0, 0.0, {}, 0.0, {}, {}};
     sd.mu = sd.roots.logNorm();
     sd.binv_norm = spectralBound(sd.Binv.linear());
     sd.b_norm = spectralBound(span.start().linear());
     sd.W.resize(P.size());
     for (std::size_t i = 0; i < P.size(); ++i) {
       sd.W[i] = span.start().applyPoint(P[i]);
+      sd.w_max = std::max(sd.w_max, sd.W[i].norm());
       if (!sd.W[i].allFinite())
         throw Error(ErrorCode::NonFinite, "SweptVolume: the body posed at the start of span " + std::to_string(spans.size()) +
                                               " overflows (vertex " + std::to_string(i) + "); scale the scene down");
@@ -340,7 +342,11 @@ struct SweptVolume::Impl {
       if (visit(sd, x, a, c, hit, cand, roots)) return true;
       return visit(sd, x, c, b, hit, cand, roots);
     }
+    // A face farther from z(c) than R cannot hit in [a, b] (its box only met the ball): its
+    // distance, computed in doubles, is trusted to 1e-9 of the magnitudes involved.
+    const double far = R + 1e-9 * (R + zc.norm() + sd.w_max);
     for (const int f : cand) {
+      if (triangleDistance(zc, sd.W[F[f][0]], sd.W[F[f][1]], sd.W[F[f][2]]) > far) continue;
       roots.clear();
       sd.roots.pointPlane(x, sd.m[f], sd.h[f], -std::min(b, hit.tau), -a, roots);
       // Roots come in increasing s, i.e. decreasing tau: check the earliest times first.
