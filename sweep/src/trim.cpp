@@ -1048,12 +1048,16 @@ std::array<std::size_t, 2> dropThinShells(std::vector<Tri>& T, double eps, const
 std::vector<std::array<int, 3>> pairAcrossEdges(const std::vector<Vec>& V, const std::vector<Tri>& T,
                                                 const std::set<std::uint64_t>& empty_wedges) {
   std::vector<std::array<int, 3>> partner(T.size(), {{-1, -1, -1}});
-  std::unordered_map<std::uint64_t, std::vector<std::pair<int, int>>> on_edge;  // (face, k)
-  on_edge.reserve(3 * T.size());
+  // The face sides of every edge, (edge, 3 face + k), sorted: a run is the faces of one edge.
+  std::vector<std::pair<std::uint64_t, int>> sides;
+  sides.reserve(3 * T.size());
   for (std::size_t f = 0; f < T.size(); ++f)
-    for (int k = 0; k < 3; ++k) on_edge[edgeKey(T[f][k], T[f][(k + 1) % 3])].push_back({static_cast<int>(f), k});
-  for (const auto& [key, list] : on_edge) {
-    if (list.size() <= 2 || list.size() % 2) continue;
+    for (int k = 0; k < 3; ++k) sides.emplace_back(edgeKey(T[f][k], T[f][(k + 1) % 3]), 3 * static_cast<int>(f) + k);
+  std::sort(sides.begin(), sides.end());
+  for (std::size_t i0 = 0, i1 = 0; i0 < sides.size(); i0 = i1) {
+    while (i1 < sides.size() && sides[i1].first == sides[i0].first) ++i1;
+    if (i1 - i0 <= 2 || (i1 - i0) % 2) continue;
+    const std::uint64_t key = sides[i0].first;
     const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);  // a < b
     const Vec d = (V[b] - V[a]).normalized();
     const Vec u = d.unitOrthogonal(), w = d.cross(u);
@@ -1063,7 +1067,8 @@ std::vector<std::array<int, 3>> pairAcrossEdges(const std::vector<Vec>& V, const
       bool forward;  // runs a -> b: its solid side is clockwise
     };
     std::vector<Around> around;
-    for (const auto& [f, k] : list) {
+    for (std::size_t i = i0; i < i1; ++i) {
+      const int f = sides[i].second / 3, k = sides[i].second % 3;
       const Vec o = V[T[f][(k + 2) % 3]] - V[a];
       around.push_back({std::atan2(o.dot(w), o.dot(u)), f, k, T[f][k] == a});
     }
@@ -1105,13 +1110,16 @@ std::size_t splitPinchedVertices(std::vector<Vec>& V, std::vector<Tri>& T) {
     std::vector<int> origin;
     copies = splitFans(V1, T1, empty_wedges, origin);
     // Edges that still have more than two faces, named by their original vertices.
-    std::unordered_map<std::uint64_t, int> uses;
+    std::vector<std::uint64_t> edges;
+    edges.reserve(3 * T1.size());
     for (const Tri& t : T1)
-      for (int k = 0; k < 3; ++k) ++uses[edgeKey(t[k], t[(k + 1) % 3])];
+      for (int k = 0; k < 3; ++k) edges.push_back(edgeKey(t[k], t[(k + 1) % 3]));
+    std::sort(edges.begin(), edges.end());
     std::size_t added = 0;
-    for (const auto& [key, n] : uses)
-      if (n > 2)
-        added += empty_wedges.insert(edgeKey(origin[key >> 32], origin[key & 0xffffffffu])).second;
+    for (std::size_t i = 0, j = 0; i < edges.size(); i = j) {
+      while (j < edges.size() && edges[j] == edges[i]) ++j;
+      if (j - i > 2) added += empty_wedges.insert(edgeKey(origin[edges[i] >> 32], origin[edges[i] & 0xffffffffu])).second;
+    }
     if (added == 0) break;
   }
   V.swap(V1);
@@ -1124,24 +1132,44 @@ std::size_t splitFans(std::vector<Vec>& V, std::vector<Tri>& T, const std::set<s
   const std::vector<std::array<int, 3>> partner = pairAcrossEdges(V, T, empty_wedges);
   origin.resize(V.size());
   std::iota(origin.begin(), origin.end(), 0);
-  std::vector<std::vector<std::pair<int, int>>> corners(V.size());  // (face, corner)
-  for (std::size_t f = 0; f < T.size(); ++f)
-    for (int k = 0; k < 3; ++k) corners[T[f][k]].push_back({static_cast<int>(f), k});
+  // The corners (face, k) of every vertex, in face order: vertex v's are
+  // corner[first[v], first[v + 1]).
+  std::vector<int> first(V.size() + 1, 0);
+  for (const Tri& t : T)
+    for (int w : t) ++first[static_cast<std::size_t>(w) + 1];
+  std::partial_sum(first.begin(), first.end(), first.begin());
+  std::vector<std::pair<int, int>> corner(3 * T.size());
+  {
+    std::vector<int> fill(first.begin(), first.end() - 1);
+    for (std::size_t f = 0; f < T.size(); ++f)
+      for (int k = 0; k < 3; ++k) corner[static_cast<std::size_t>(fill[T[f][k]]++)] = {static_cast<int>(f), k};
+  }
   std::size_t copies = 0;
   const std::size_t nv = V.size();
+  // Per vertex: (next vertex b, corner index) and (face, corner index), sorted; where several
+  // corners have the same b, the last of them is the one found.
+  std::vector<std::pair<int, int>> by_next, by_face;
+  std::vector<char> seen;
+  auto find = [](const std::vector<std::pair<int, int>>& list, int key) {
+    auto it = std::upper_bound(list.begin(), list.end(), std::make_pair(key, std::numeric_limits<int>::max()));
+    return it == list.begin() || std::prev(it)->first != key ? -1 : std::prev(it)->second;
+  };
   for (std::size_t v = 0; v < nv; ++v) {
-    auto& cs = corners[v];
-    if (cs.size() < 3) continue;
+    const std::pair<int, int>* cs = corner.data() + first[v];
+    const std::size_t n = static_cast<std::size_t>(first[v + 1] - first[v]);
+    if (n < 3) continue;
     // Around v, face (v, b, c) leads to the face that has (v, c, ...): follow the fans.
-    std::unordered_map<int, std::size_t> by_next;  // b -> corner index
-    std::unordered_map<int, std::size_t> by_face;  // face -> corner index
-    for (std::size_t i = 0; i < cs.size(); ++i) {
-      by_next[T[cs[i].first][(cs[i].second + 1) % 3]] = i;
-      by_face[cs[i].first] = i;
+    by_next.clear();
+    by_face.clear();
+    for (std::size_t i = 0; i < n; ++i) {
+      by_next.emplace_back(T[cs[i].first][(cs[i].second + 1) % 3], static_cast<int>(i));
+      by_face.emplace_back(cs[i].first, static_cast<int>(i));
     }
-    std::vector<char> seen(cs.size(), 0);
+    std::sort(by_next.begin(), by_next.end());
+    std::sort(by_face.begin(), by_face.end());
+    seen.assign(n, 0);
     bool first_fan = true;
-    for (std::size_t i = 0; i < cs.size(); ++i) {
+    for (std::size_t i = 0; i < n; ++i) {
       if (seen[i]) continue;
       const int target = first_fan ? static_cast<int>(v) : static_cast<int>(V.size());
       if (!first_fan) V.push_back(V[v]), origin.push_back(static_cast<int>(v)), ++copies;
@@ -1151,16 +1179,9 @@ std::size_t splitFans(std::vector<Vec>& V, std::vector<Tri>& T, const std::set<s
         T[cs[j].first][cs[j].second] = target;
         // Across the edge c -> v: its paired face where the surface touches itself there.
         const int across = partner[cs[j].first][(cs[j].second + 2) % 3];
-        if (across >= 0) {
-          auto it = by_face.find(across);
-          if (it == by_face.end()) break;
-          j = it->second;
-          continue;
-        }
-        const int c = T[cs[j].first][(cs[j].second + 2) % 3];
-        auto it = by_next.find(c);
-        if (it == by_next.end()) break;
-        j = it->second;
+        const int next = across >= 0 ? find(by_face, across) : find(by_next, T[cs[j].first][(cs[j].second + 2) % 3]);
+        if (next < 0) break;
+        j = static_cast<std::size_t>(next);
       }
     }
   }
