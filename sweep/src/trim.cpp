@@ -180,6 +180,11 @@ std::vector<std::pair<int, int>> boxPairs(const std::vector<Point>& P, const std
 
 struct Arrangement {
   std::vector<EPoint> points;
+  // Per point: its coordinates in doubles, fixed when the point is numbered, on one thread. The
+  // lazy kernel narrows a point's interval when some predicate evaluates it exactly, and which
+  // points the parallel steps evaluate depends on their timing; reading the intervals later
+  // would let the output's last bits depend on it. Everything after the arrangement reads these.
+  std::vector<Vec> approx;
   std::vector<Tri> faces;
   std::vector<int> weight;  // per face: how many coincident layers it stands for (>= 1)
   // Per face: the cycle triangle it was cut from (of the first layer, for merged faces). Faces
@@ -499,11 +504,18 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   });
   Arrangement out;
   out.points = ep;
+  out.approx.reserve(ip.size());
+  for (const IPoint& x : ip) out.approx.emplace_back(x.x(), x.y(), x.z());
   std::map<EPoint, int> index;
   for (std::size_t v = 0; v < ep.size(); ++v) index.emplace(ep[v], static_cast<int>(v));
-  auto pointId = [&](const EPoint& p) {
+  // Numbers p; a new point gets `fixed` as its doubles if given, else its current interval's
+  // (on this thread, before any parallel step has touched it).
+  auto pointId = [&](const EPoint& p, const Vec* fixed = nullptr) {
     auto [it, added] = index.emplace(p, static_cast<int>(out.points.size()));
-    if (added) out.points.push_back(p);
+    if (added) {
+      out.points.push_back(p);
+      out.approx.push_back(fixed ? *fixed : Vec(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())));
+    }
     return it->second;
   };
   struct CutHash {
@@ -579,6 +591,9 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
     std::vector<Tri> faces;     // a corner -(k + 1) is the point fresh[k]
     std::vector<EPoint> fresh;  // points made where constraints cross
     std::vector<Name> names;    // per fresh point: its name, or {-1, -1, -1} if the triangulation made it
+    // Per named fresh point, the points it was made from: the line through the first two meets
+    // the plane through the last three.
+    std::vector<std::array<int, 5>> made_from;
   };
   auto retriangulate = [&](std::size_t t, Retriangulation& r) {
     const EPoint A = out.points[T[t][0]], B = out.points[T[t][1]], C = out.points[T[t][2]];
@@ -651,6 +666,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
         Name name{{static_cast<int>(t), c.other, d.other}};
         std::sort(name.begin(), name.end());
         r.names.push_back(name);
+        r.made_from.push_back({{on.a, on.b, w[0], w[1], w[2]}});
         v->info().id = -static_cast<int>(r.fresh.size());
       }
     }
@@ -665,6 +681,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
       c3[k] = xk, c3[k1] = xk1, c3[k2] = xk2;
       r.fresh.emplace_back(c3[0], c3[1], c3[2]);
       r.names.push_back({{-1, -1, -1}});
+      r.made_from.push_back({{-1, -1, -1, -1, -1}});
       v->info().id = -static_cast<int>(r.fresh.size());
     }
     for (auto f : cdt.finite_face_handles()) {
@@ -693,13 +710,35 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
       Retriangulation& r = block[t - t0];
       std::vector<int> fresh_id;
       fresh_id.reserve(r.fresh.size());
+      // The doubles of a new point: for a point where constraints cross, the same formula on
+      // the doubles of the points it was made from; for a point the triangulation made (rare),
+      // its exact value rounded. Neither depends on what the parallel step evaluated.
+      // The formula is used only where its denominator is far above its rounding (1e3 times a
+      // bound of 8 ulp of the dot products' magnitudes); otherwise the exact value is rounded.
+      auto fixed = [&](std::size_t k) {
+        const std::array<int, 5>& m = r.made_from[k];
+        if (m[0] >= 0) {
+          const Vec &a = out.approx[m[0]], &b = out.approx[m[1]], &p = out.approx[m[2]];
+          const Vec n = (out.approx[m[3]] - p).cross(out.approx[m[4]] - p);
+          const double da = n.dot(a - p), db = n.dot(b - p);
+          const double rounding = 8 * 0x1.0p-52 * n.cwiseAbs().dot((a - p).cwiseAbs() + (b - p).cwiseAbs());
+          const Vec x = a + (b - a) * (da / (da - db));
+          if (std::abs(da - db) > 1e3 * rounding && x.allFinite()) return x;
+        }
+        const EPoint& x = r.fresh[k];
+        return Vec(CGAL::to_double(x.exact().x()), CGAL::to_double(x.exact().y()), CGAL::to_double(x.exact().z()));
+      };
       for (std::size_t k = 0; k < r.fresh.size(); ++k) {
         if (r.names[k][0] < 0) {
-          fresh_id.push_back(pointId(r.fresh[k]));
+          const Vec x = fixed(k);
+          fresh_id.push_back(pointId(r.fresh[k], &x));
           continue;
         }
         auto [it, added] = named.emplace(r.names[k], 0);
-        if (added) it->second = pointId(r.fresh[k]);
+        if (added) {
+          const Vec x = fixed(k);
+          it->second = pointId(r.fresh[k], &x);
+        }
         fresh_id.push_back(it->second);
       }
       for (Tri x : r.faces) {
@@ -754,9 +793,7 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
   std::vector<int> rep;  // per patch: its largest face (approximate area)
   std::vector<double> rep_area;
   std::vector<int> patch_of_root(nf, -1);
-  std::vector<Vec> approx(P.size());
-  for (std::size_t v = 0; v < P.size(); ++v)
-    approx[v] = Vec(CGAL::to_double(P[v].x()), CGAL::to_double(P[v].y()), CGAL::to_double(P[v].z()));
+  const std::vector<Vec>& approx = A.approx;
   for (std::size_t f = 0; f < nf; ++f) {
     int& p = patch_of_root[findRoot(parent, static_cast<int>(f))];
     if (p < 0) {
@@ -1387,9 +1424,7 @@ std::vector<char> buriedPatches(const Arrangement& A, const Labels& L, double ep
   const std::size_t np = L.w_front.size();
   std::vector<char> flag(np, 0);
   if (!inside_swept) return flag;
-  auto approx = [&](int v) {
-    return Vec(CGAL::to_double(A.points[v].x()), CGAL::to_double(A.points[v].y()), CGAL::to_double(A.points[v].z()));
-  };
+  auto approx = [&](int v) { return A.approx[v]; };
   // Selected patches, the side their empty side is on (+1: in front of their faces), and
   // their largest face.
   std::vector<int> side(np, 0), largest(np, -1);
@@ -1469,7 +1504,7 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
   if (!inside_swept) return flag;
   std::vector<IPoint> P;
   P.reserve(A.points.size());
-  for (const EPoint& x : A.points) P.emplace_back(CGAL::to_double(x.x()), CGAL::to_double(x.y()), CGAL::to_double(x.z()));
+  for (const Vec& x : A.approx) P.emplace_back(x.x(), x.y(), x.z());
   auto vec = [&](int v) { return Vec(P[v].x(), P[v].y(), P[v].z()); };
   auto ipoint = [](const Vec& x) { return IPoint(x.x(), x.y(), x.z()); };
   // Per selected face with a usable normal: the unit normal towards its empty side and its box
@@ -1533,6 +1568,16 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
 // some edge path does not close, some loop cannot be filled, a filling face would leave an
 // edge with other than two faces, or a filling face crosses the surface or another filling
 // face; `trouble` then holds the vertices of every such path and loop.
+// Loops of up to this many points are filled first by CGAL's search over all triangulations of
+// the polygon (cubic in its size: about 3e5 candidate triangles at this size), which chooses the
+// same filling on every run. CGAL's faster search within a 3D Delaunay triangulation of the
+// points, used for longer loops and for the short ones the first filling leaves crossing
+// something, chooses among fillings of equal weight by the memory layout of its triangulation:
+// called twice on the same loops in one process, it filled 51 of 5,208 mouth loops of the CGAL
+// sphere screw differently (8 and 9 points), and envelopes changed from run to run on two
+// threads.
+constexpr std::size_t kCubicHoleFilling = 128;
+
 long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>& trouble) {
   // Per undirected edge: how many faces use it and the net direction (a < b positive), by a
   // sort of every face's edges (faster than hashing here: this runs once per selection round).
@@ -1593,55 +1638,58 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
       if (path.size() == 1 && !from.count(path[0])) break;
     }
   }
-  std::vector<Tri> added;
-  std::vector<int> loop_of;  // per added face: its loop
-  std::vector<char> bad(loops.size(), 0);
-  for (const std::vector<int>& loop : loops) {
-    const std::size_t l = static_cast<std::size_t>(&loop - loops.data());
-    if (loop.size() < 3) {
-      bad[l] = 1;
-      continue;
-    }
+  // Each loop's filling faces (empty when CGAL gives no triangulation of it). CGAL's triangles
+  // (i, j, k), i < j < k, run along the loop; the faces next to the loop run along it too, so
+  // the filling faces are reversed.
+  std::vector<std::vector<Tri>> fill(loops.size());
+  auto fillLoop = [&](std::size_t l, bool delaunay) {
+    const std::vector<int>& loop = loops[l];
+    fill[l].clear();
+    if (loop.size() < 3) return;
     std::vector<IPoint> pts;
     for (int v : loop) pts.emplace_back(V[v].x(), V[v].y(), V[v].z());
     std::vector<CGAL::Triple<int, int, int>> patch;
-    CGAL::Polygon_mesh_processing::triangulate_hole_polyline(pts, std::back_inserter(patch));
-    if (patch.size() != loop.size() - 2) {
-      bad[l] = 1;
-      continue;
+    CGAL::Polygon_mesh_processing::triangulate_hole_polyline(pts, std::back_inserter(patch),
+                                                             CGAL::parameters::use_delaunay_triangulation(delaunay));
+    if (patch.size() != loop.size() - 2) return;
+    for (const auto& x : patch) fill[l].push_back({{loop[x.first], loop[x.third], loop[x.second]}});
+  };
+  std::vector<IPoint> P;
+  P.reserve(V.size());
+  for (const Vec& x : V) P.emplace_back(x.x(), x.y(), x.z());
+  auto boxes = [&](const std::vector<Tri>& list) {
+    std::vector<Box> out;
+    out.reserve(list.size());
+    for (std::size_t i = 0; i < list.size(); ++i)
+      out.emplace_back(P[list[i][0]].bbox() + P[list[i][1]].bbox() + P[list[i][2]].bbox(), i);
+    return out;
+  };
+  std::vector<Box> surface_boxes;
+  std::vector<Tri> added;
+  std::vector<int> loop_of;  // per added face: its loop
+  // The loops that cannot be filled as they are: no triangulation, or a filling face that
+  // leaves an edge with other than two faces (a diagonal that repeats an edge of the surface
+  // would make it non-manifold), or that crosses the rest of the surface or another filling
+  // face (least-weight filling sees only its loop; exact predicates on the double coordinates,
+  // as the output check uses).
+  auto badLoops = [&]() {
+    std::vector<char> bad(loops.size(), 0);
+    added.clear();
+    loop_of.clear();
+    for (std::size_t l = 0; l < loops.size(); ++l) {
+      if (fill[l].empty()) bad[l] = 1;
+      for (const Tri& t : fill[l]) added.push_back(t), loop_of.push_back(static_cast<int>(l));
     }
-    // CGAL's triangles (i, j, k), i < j < k, run along the loop; the faces next to the loop
-    // run along it too, so the filling faces are reversed.
-    for (const auto& x : patch) {
-      added.push_back({{loop[x.first], loop[x.third], loop[x.second]}});
-      loop_of.push_back(static_cast<int>(l));
-    }
-  }
-  // Every edge of a filling face must end up with exactly two faces, one each way (a diagonal
-  // that repeats an edge of the surface would make it non-manifold).
-  const std::vector<EdgeUse> use = edgeUses({&T, &added});
-  for (std::size_t f = 0; f < added.size(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const std::uint64_t key = edgeKey(added[f][k], added[f][(k + 1) % 3]);
-      const auto u = std::lower_bound(use.begin(), use.end(), key,
-                                      [](const EdgeUse& e, std::uint64_t x) { return e.key < x; });
-      if (u->faces != 2 || u->net != 0) bad[loop_of[f]] = 1;
-    }
-  // Least-area filling sees only its loop: a filling face must not cross the rest of the
-  // surface nor another filling face (exact predicates on the double coordinates, as the
-  // output check uses). Every loop with such a face is reported at once.
-  {
-    std::vector<IPoint> P;
-    P.reserve(V.size());
-    for (const Vec& x : V) P.emplace_back(x.x(), x.y(), x.z());
-    auto boxes = [&](const std::vector<Tri>& list) {
-      std::vector<Box> out;
-      out.reserve(list.size());
-      for (std::size_t i = 0; i < list.size(); ++i)
-        out.emplace_back(P[list[i][0]].bbox() + P[list[i][1]].bbox() + P[list[i][2]].bbox(), i);
-      return out;
-    };
-    std::vector<Box> added_boxes = boxes(added), surface_boxes = boxes(T);
+    const std::vector<EdgeUse> use = edgeUses({&T, &added});
+    for (std::size_t f = 0; f < added.size(); ++f)
+      for (int k = 0; k < 3; ++k) {
+        const std::uint64_t key = edgeKey(added[f][k], added[f][(k + 1) % 3]);
+        const auto u = std::lower_bound(use.begin(), use.end(), key,
+                                        [](const EdgeUse& e, std::uint64_t x) { return e.key < x; });
+        if (u->faces != 2 || u->net != 0) bad[loop_of[f]] = 1;
+      }
+    if (surface_boxes.empty()) surface_boxes = boxes(T);
+    std::vector<Box> added_boxes = boxes(added);
     CGAL::box_intersection_d(added_boxes.begin(), added_boxes.end(), surface_boxes.begin(), surface_boxes.end(),
                              [&](const Box& a, const Box& b) {
                                if (crosses(P, added[a.info()], T[b.info()])) bad[loop_of[a.info()]] = 1;
@@ -1649,10 +1697,21 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
     CGAL::box_self_intersection_d(added_boxes.begin(), added_boxes.end(), [&](const Box& a, const Box& b) {
       if (crosses(P, added[a.info()], added[b.info()])) bad[loop_of[a.info()]] = bad[loop_of[b.info()]] = 1;
     });
-    for (std::size_t l = 0; l < loops.size(); ++l)
-      if (bad[l]) fail(loops[l]);
-    if (!trouble.empty()) return -1;
-  }
+    return bad;
+  };
+  // Short loops are filled first by the search over all their triangulations, whose choice is
+  // the same on every run; those it fills badly are filled again within the 3D Delaunay
+  // triangulation of their points (it avoids other faces better; see kCubicHoleFilling).
+  for (std::size_t l = 0; l < loops.size(); ++l) fillLoop(l, loops[l].size() > kCubicHoleFilling);
+  std::vector<char> bad = badLoops();
+  bool again = false;
+  for (std::size_t l = 0; l < loops.size(); ++l)
+    if (bad[l] && loops[l].size() >= 3 && loops[l].size() <= kCubicHoleFilling) fillLoop(l, true), again = true;
+  if (again) bad = badLoops();
+  // Every loop that still cannot be filled is reported at once.
+  for (std::size_t l = 0; l < loops.size(); ++l)
+    if (bad[l]) fail(loops[l]);
+  if (!trouble.empty()) return -1;
   T.insert(T.end(), added.begin(), added.end());
   return static_cast<long>(loops.size());
 }
@@ -1732,8 +1791,7 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
       for (int& v : t) {
         if (used[v] < 0) {
           used[v] = static_cast<int>(env.vertices.size());
-          const EPoint& x = A.points[v];
-          env.vertices.emplace_back(CGAL::to_double(x.x()), CGAL::to_double(x.y()), CGAL::to_double(x.z()));
+          env.vertices.push_back(A.approx[v]);
         }
         v = used[v];
       }
