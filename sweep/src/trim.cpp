@@ -1331,7 +1331,7 @@ std::size_t separatePinches(std::vector<Vec>& V, const std::vector<Tri>& T, doub
   return V.size() - seen.size();
 }
 
-void computeCheck(MeshCheck& c, const std::vector<Vec>& V, const std::vector<Tri>& T, bool self) {
+void computeCheck(MeshCheck& c, const std::vector<Vec>& V, const std::vector<Tri>& T, bool self, int threads) {
   // Directed edges: closed and oriented when every edge has one face each way.
   std::unordered_map<std::uint64_t, std::array<int, 2>> edges;  // [a<b direction count, other]
   edges.reserve(3 * T.size());
@@ -1356,16 +1356,18 @@ void computeCheck(MeshCheck& c, const std::vector<Vec>& V, const std::vector<Tri
     std::vector<std::vector<std::pair<int, int>>> around(V.size());  // (next, prev) corner pairs
     for (const Tri& t : T)
       for (int k = 0; k < 3; ++k) around[t[k]].push_back({t[(k + 1) % 3], t[(k + 2) % 3]});
+    std::vector<std::pair<int, int>> next;  // b -> c for each face (v, b, c), sorted by b
     for (auto& fan : around) {
       if (fan.empty()) continue;
-      std::unordered_map<int, int> next;  // b -> c for each face (v, b, c)
-      for (auto [b, cc] : fan) next[b] = cc;
+      next = fan;
+      // (stable: of equal b, the last face's c is the one followed)
+      std::stable_sort(next.begin(), next.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
       std::size_t steps = 0;
       int x = fan[0].first;
       do {
-        auto it = next.find(x);
-        if (it == next.end()) break;
-        x = it->second;
+        auto it = std::upper_bound(next.begin(), next.end(), x, [](int key, const auto& e) { return key < e.first; });
+        if (it == next.begin() || std::prev(it)->first != x) break;
+        x = std::prev(it)->second;
         ++steps;
       } while (x != fan[0].first && steps <= fan.size());
       if (steps != fan.size() || x != fan[0].first) {
@@ -1393,8 +1395,20 @@ void computeCheck(MeshCheck& c, const std::vector<Vec>& V, const std::vector<Tri
   }
   c.self_intersections = -1;
   if (self) {
-    c.self_intersections = static_cast<long>(
-        boxPairs(P, T, [&](int i, int j) { return !flat[i] && !flat[j] && crosses(P, T[i], T[j]); }).size());
+    // Pairs of faces whose boxes meet (a box hierarchy; each pair from its lower face), tested
+    // in parallel, counted per face.
+    detail::FaceTree tree;
+    tree.build(V, T);
+    std::vector<long> crossing(T.size(), 0);
+    parallelFor(0, T.size(), threads, [&](std::size_t f) {
+      if (flat[f]) return;
+      const Tri& t = T[f];
+      const Vec lo = V[t[0]].cwiseMin(V[t[1]]).cwiseMin(V[t[2]]), hi = V[t[0]].cwiseMax(V[t[1]]).cwiseMax(V[t[2]]);
+      tree.overlapping(lo, hi, [&](int g) {
+        if (static_cast<std::size_t>(g) > f && !flat[g] && crosses(P, t, T[g])) ++crossing[f];
+      });
+    });
+    c.self_intersections = std::accumulate(crossing.begin(), crossing.end(), 0L);
   }
 }
 
@@ -1664,7 +1678,8 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
       out.emplace_back(P[list[i][0]].bbox() + P[list[i][1]].bbox() + P[list[i][2]].bbox(), i);
     return out;
   };
-  std::vector<Box> surface_boxes;
+  detail::FaceTree surface;  // over T, built when first needed
+  bool surface_built = false;
   std::vector<Tri> added;
   std::vector<int> loop_of;  // per added face: its loop
   // The loops that cannot be filled as they are: no triangulation, or a filling face that
@@ -1688,12 +1703,18 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
                                         [](const EdgeUse& e, std::uint64_t x) { return e.key < x; });
         if (u->faces != 2 || u->net != 0) bad[loop_of[f]] = 1;
       }
-    if (surface_boxes.empty()) surface_boxes = boxes(T);
+    if (!surface_built) surface.build(V, T), surface_built = true;
+    for (std::size_t f = 0; f < added.size(); ++f) {
+      if (bad[loop_of[f]]) continue;
+      const Tri& t = added[f];
+      const Vec lo = V[t[0]].cwiseMin(V[t[1]]).cwiseMin(V[t[2]]), hi = V[t[0]].cwiseMax(V[t[1]]).cwiseMax(V[t[2]]);
+      surface.overlappingUntil(lo, hi, [&](int g) {
+        if (!crosses(P, t, T[g])) return true;
+        bad[loop_of[f]] = 1;
+        return false;
+      });
+    }
     std::vector<Box> added_boxes = boxes(added);
-    CGAL::box_intersection_d(added_boxes.begin(), added_boxes.end(), surface_boxes.begin(), surface_boxes.end(),
-                             [&](const Box& a, const Box& b) {
-                               if (crosses(P, added[a.info()], T[b.info()])) bad[loop_of[a.info()]] = 1;
-                             });
     CGAL::box_self_intersection_d(added_boxes.begin(), added_boxes.end(), [&](const Box& a, const Box& b) {
       if (crosses(P, added[a.info()], added[b.info()])) bad[loop_of[a.info()]] = bad[loop_of[b.info()]] = 1;
     });
@@ -1872,7 +1893,7 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
   env.timings.output = seconds(t0);
 
   t0 = std::chrono::steady_clock::now();
-  computeCheck(env.check, env.vertices, env.triangles, options.check);
+  computeCheck(env.check, env.vertices, env.triangles, options.check, options.threads);
   env.volume = env.check.volume;
   env.area = env.check.area;
   env.timings.check = seconds(t0);
@@ -1939,7 +1960,7 @@ MeshCheck inspectMesh(const std::vector<Eigen::Vector3d>& vertices, const std::v
         throw Error(ErrorCode::InvalidArgument, "inspectMesh: face " + std::to_string(f) + " names vertex " +
                                                     std::to_string(v) + " of " + std::to_string(vertices.size()));
   MeshCheck c;
-  computeCheck(c, vertices, triangles, self_intersections);
+  computeCheck(c, vertices, triangles, self_intersections, 0);
   return c;
 }
 
