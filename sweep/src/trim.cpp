@@ -1286,33 +1286,50 @@ std::size_t separatePinches(std::vector<Vec>& V, const std::vector<Tri>& T, doub
   std::vector<int> direction(groups.size(), 0);
   std::vector<int> todo(groups.size());
   std::iota(todo.begin(), todo.end(), 0);
+  // The faces in a box hierarchy built once, at the unmoved positions: a vertex moves at most
+  // `reach` from there, so a face's box is always within `reach` of the box the hierarchy was
+  // built with, and queries widened by `reach` find every face whose current box they meet
+  // (its leaves test the current boxes).
+  double reach = 0;
+  for (const std::vector<int>& group : groups)
+    for (int v : group)
+      for (const Vec& d : dir[v]) reach = std::max(reach, d.norm());
+  reach = reach * (1 + 1e-9) + 1e-300;
+  detail::FaceTree tree;
+  tree.build(V, T);
+  std::vector<IPoint> P;
+  P.reserve(V.size());
+  for (const Vec& x : V) P.emplace_back(x.x(), x.y(), x.z());
+  std::vector<char> moved_face(T.size(), 0);
+  std::vector<int> moved;
   while (!todo.empty()) {
     for (int g : todo)
-      for (int v : groups[g]) V[v] = origin[v] + scale[g] * dir[v][direction[g]];
+      for (int v : groups[g]) {
+        V[v] = origin[v] + scale[g] * dir[v][direction[g]];
+        P[v] = IPoint(V[v].x(), V[v].y(), V[v].z());
+      }
     // Faces moved in this round against every face: exact crossing tests on the doubles.
-    std::vector<IPoint> P;
-    P.reserve(V.size());
-    for (const Vec& x : V) P.emplace_back(x.x(), x.y(), x.z());
-    std::vector<char> moved_face(T.size(), 0);
+    moved.clear();
     for (int g : todo)
       for (int v : groups[g])
-        for (int f : faces_of[v]) moved_face[f] = 1;
-    std::vector<Box> moved, all;
-    for (std::size_t f = 0; f < T.size(); ++f) {
-      Box b(P[T[f][0]].bbox() + P[T[f][1]].bbox() + P[T[f][2]].bbox(), f);
-      all.push_back(b);
-      if (moved_face[f]) moved.push_back(b);
-    }
+        for (int f : faces_of[v])
+          if (!moved_face[f]) moved_face[f] = 1, moved.push_back(f);
     std::vector<char> bad(groups.size(), 0);
     auto blame = [&](std::size_t f) {
       for (int v : T[f])
         if (group_of[v] >= 0) bad[group_of[v]] = 1;
     };
-    CGAL::box_intersection_d(moved.begin(), moved.end(), all.begin(), all.end(), [&](const Box& a, const Box& b) {
-      if (a.info() == b.info() || !crosses(P, T[a.info()], T[b.info()])) return;
-      blame(a.info());
-      blame(b.info());
-    });
+    for (const int f : moved) {
+      moved_face[f] = 0;
+      const Tri& t = T[f];
+      const Vec lo = V[t[0]].cwiseMin(V[t[1]]).cwiseMin(V[t[2]]) - Vec::Constant(reach);
+      const Vec hi = V[t[0]].cwiseMax(V[t[1]]).cwiseMax(V[t[2]]) + Vec::Constant(reach);
+      tree.overlapping(lo, hi, [&](int g) {
+        if (g == f || !crosses(P, t, T[g])) return;
+        blame(static_cast<std::size_t>(f));
+        blame(static_cast<std::size_t>(g));
+      });
+    }
     std::vector<int> again;
     for (int g : todo) {
       if (!bad[g]) continue;
@@ -1321,7 +1338,7 @@ std::size_t separatePinches(std::vector<Vec>& V, const std::vector<Tri>& T, doub
       if (direction[g] < kDirections) {
         again.push_back(g);
       } else {
-        for (int v : groups[g]) V[v] = origin[v];  // no direction works: leave the pinch
+        for (int v : groups[g]) V[v] = origin[v], P[v] = IPoint(V[v].x(), V[v].y(), V[v].z());  // no direction works
       }
     }
     todo.swap(again);
