@@ -1547,7 +1547,9 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
     const Tri& t = A.faces[f];
     return k == 0 ? Vec((vec(t[0]) + vec(t[1]) + vec(t[2])) / 3.0) : vec(t[k - 1]);
   };
-  std::vector<Box> walls, probes;
+  std::vector<Tri> walls;       // their triangles
+  std::vector<int> wall_face;   // per wall: its face
+  std::vector<std::pair<int, std::array<Vec, 2>>> probes;  // (face, box of its four probes)
   for (std::size_t f = 0; f < nf; ++f) {
     const int p = L.patch[f];
     if (L.group[p] != p) continue;
@@ -1561,32 +1563,39 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
     const double reach = std::max({a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff(), c.cwiseAbs().maxCoeff()});
     if (!(n.norm() > kNormalWidth * reach * longest)) continue;
     empty_normal[f] = side * n.normalized();
-    walls.emplace_back(P[t[0]].bbox() + P[t[1]].bbox() + P[t[2]].bbox(), f);
+    walls.push_back(t);
+    wall_face.push_back(static_cast<int>(f));
     if (buried[p]) continue;
     // One box around the face's four probes: the triangle and its copy moved along them.
     const Vec shift = kBuriedProbe * eps_t * empty_normal[f];
-    probes.emplace_back(P[t[0]].bbox() + P[t[1]].bbox() + P[t[2]].bbox() + ipoint(a + shift).bbox() +
-                            ipoint(b + shift).bbox() + ipoint(c + shift).bbox(),
-                        f);
+    const Vec lo = a.cwiseMin(b).cwiseMin(c), hi = a.cwiseMax(b).cwiseMax(c);
+    probes.push_back({static_cast<int>(f), {{lo.cwiseMin(lo + shift), hi.cwiseMax(hi + shift)}}});
   }
   auto probeEnd = [&](std::size_t f, int k) { return Vec(origin(f, k) + kBuriedProbe * eps_t * empty_normal[f]); };
-  std::vector<unsigned char> met(nf, 0);  // per face: bit k set when probe k meets a facing wall
-  CGAL::box_intersection_d(probes.begin(), probes.end(), walls.begin(), walls.end(), [&](const Box& pb, const Box& wb) {
-    const std::size_t f = pb.info(), g = wb.info();
-    if (f == g || empty_normal[f].dot(empty_normal[g]) > kFacing) return;
-    const Tri& t = A.faces[g];
-    const IK::Triangle_3 wall(P[t[0]], P[t[1]], P[t[2]]);
-    const CGAL::Bbox_3 wall_box = wb.bbox();
-    for (int k = 0; k < kOrigins; ++k) {
-      if (met[f] >> k & 1) continue;
-      const IK::Segment_3 probe(ipoint(origin(f, k)), ipoint(probeEnd(f, k)));
-      if (CGAL::do_overlap(probe.bbox(), wall_box) && CGAL::do_intersect(probe, wall))
-        met[f] |= static_cast<unsigned char>(1u << k);
-    }
-  });
-  parallelFor(0, nf, threads, [&](std::size_t f) {
+  // The walls in a box hierarchy; each probing face, in parallel, marks the probes that meet a
+  // facing wall (bit k for probe k), then tests their ends until one is inside.
+  detail::FaceTree tree;
+  tree.build(A.approx, walls);
+  parallelFor(0, probes.size(), threads, [&](std::size_t i) {
+    const std::size_t f = static_cast<std::size_t>(probes[i].first);
+    unsigned met = 0;
+    // (the box is widened by a few ulps: the segments' ends are rounded sums)
+    const Vec pad = Vec::Constant(1e-15 * (1.0 + probes[i].second[1].cwiseAbs().maxCoeff() +
+                                           probes[i].second[0].cwiseAbs().maxCoeff()));
+    tree.overlapping(probes[i].second[0] - pad, probes[i].second[1] + pad, [&](int w) {
+      const std::size_t g = static_cast<std::size_t>(wall_face[static_cast<std::size_t>(w)]);
+      if (f == g || empty_normal[f].dot(empty_normal[g]) > kFacing) return;
+      const Tri& t = A.faces[g];
+      const IK::Triangle_3 wall(P[t[0]], P[t[1]], P[t[2]]);
+      const CGAL::Bbox_3 wall_box = P[t[0]].bbox() + P[t[1]].bbox() + P[t[2]].bbox();
+      for (int k = 0; k < kOrigins; ++k) {
+        if (met >> k & 1) continue;
+        const IK::Segment_3 probe(ipoint(origin(f, k)), ipoint(probeEnd(f, k)));
+        if (CGAL::do_overlap(probe.bbox(), wall_box) && CGAL::do_intersect(probe, wall)) met |= 1u << k;
+      }
+    });
     for (int k = 0; k < kOrigins && !flag[f]; ++k)
-      if (met[f] >> k & 1) flag[f] = inside_swept(probeEnd(f, k));
+      if (met >> k & 1) flag[f] = inside_swept(probeEnd(f, k));
   });
   return flag;
 }
