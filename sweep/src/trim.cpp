@@ -159,19 +159,35 @@ bool crosses(const std::vector<Point>& P, const Tri& s, const Tri& t) {
   return CGAL::do_intersect(Triangle(P[s[0]], P[s[1]], P[s[2]]), Triangle(P[t[0]], P[t[1]], P[t[2]]));
 }
 
-// The pairs of triangles whose (closed) boxes meet and that pass `keep(i, j)`, in the order
-// CGAL reports them (the candidates are tested as they come: a large mesh has tens of millions).
-template <class Point, class Keep>
-std::vector<std::pair<int, int>> boxPairs(const std::vector<Point>& P, const std::vector<Tri>& T, Keep&& keep) {
-  std::vector<Box> boxes;
-  boxes.reserve(T.size());
-  for (std::size_t i = 0; i < T.size(); ++i)
-    boxes.emplace_back(P[T[i][0]].bbox() + P[T[i][1]].bbox() + P[T[i][2]].bbox(), i);
+// The pairs (i, j), i < j, of triangles whose boxes meet and that pass `keep(i, j)`, ordered by
+// i, then j. `V` holds the points in doubles, each within `pad` of the true point (per
+// coordinate), so boxes widened by 2 pad meet wherever the true ones do. Found in parallel
+// (keep must be safe to call concurrently), each triangle's partners from a box hierarchy,
+// tested as they come (a large sweep has tens of millions of candidates).
+template <class Keep>
+std::vector<std::pair<int, int>> crossingPairs(const std::vector<Vec>& V, double pad, const std::vector<Tri>& T,
+                                               int threads, Keep&& keep) {
+  detail::FaceTree tree;
+  tree.build(V, T);
+  const Vec widen = Vec::Constant(2 * pad);
+  constexpr std::size_t kBlock = 1 << 14;
   std::vector<std::pair<int, int>> pairs;
-  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
-    const int i = static_cast<int>(a.info()), j = static_cast<int>(b.info());
-    if (keep(i, j)) pairs.emplace_back(i, j);
-  });
+  std::vector<std::vector<int>> partners;
+  for (std::size_t b0 = 0; b0 < T.size(); b0 += kBlock) {
+    const std::size_t b1 = std::min(T.size(), b0 + kBlock);
+    partners.assign(b1 - b0, {});
+    parallelFor(b0, b1, threads, [&](std::size_t i) {
+      const Tri& t = T[i];
+      std::vector<int>& out = partners[i - b0];
+      tree.overlapping(V[t[0]].cwiseMin(V[t[1]]).cwiseMin(V[t[2]]) - widen,
+                       V[t[0]].cwiseMax(V[t[1]]).cwiseMax(V[t[2]]) + widen, [&](int j) {
+                         if (static_cast<std::size_t>(j) > i && keep(static_cast<int>(i), j)) out.push_back(j);
+                       });
+      std::sort(out.begin(), out.end());
+    });
+    for (std::size_t i = b0; i < b1; ++i)
+      for (const int j : partners[i - b0]) pairs.emplace_back(static_cast<int>(i), j);
+  }
   return pairs;
 }
 
@@ -499,7 +515,21 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   // intersections. Every point gets its number when it is made: points are identified by exact
   // equality (the map's comparisons are exact only where the interval filter fails, that is
   // for equal or nearly equal points), and cut points by their names first.
-  const auto pairs = boxPairs(ep, T, [&](int i, int j) {
+  // The inexact points are evaluated exactly first: the parallel tests below then leave every
+  // point's interval as it was, and the doubles of the points made from them do not depend on
+  // the tests' timing (see Arrangement::approx). `pad` bounds how far their doubles are from them.
+  std::vector<Vec> near(ip.size());
+  double pad = 0;
+  for (std::size_t v = 0; v < ip.size(); ++v) {
+    near[v] = Vec(ip[v].x(), ip[v].y(), ip[v].z());
+    if (!inexact[v]) continue;
+    (void)ep[v].exact();
+    const CGAL::Bbox_3 b = ep[v].bbox();
+    for (int k = 0; k < 3; ++k)
+      pad = std::max({pad, near[v][k] - b.min(k), b.max(k) - near[v][k]});
+  }
+  pad = 2 * pad;  // (rounding of the comparisons above)
+  const auto pairs = crossingPairs(near, pad, T, options.threads, [&](int i, int j) {
     return plain(T[i]) && plain(T[j]) ? crosses(ip, T[i], T[j]) : crosses(ep, T[i], T[j]);
   });
   Arrangement out;
