@@ -222,9 +222,10 @@ class TreeQuery {
 
   std::vector<Contact> run() {
     const auto start = Clock::now();
-    std::vector<Entry> front{{0, 0, 1}};
-    std::vector<unsigned> pool{0};
-    for (std::size_t i = 0; i < spans_.size() && !done_; ++i) interval(i, 0.0, 1.0, 0, front, pool);
+    levels_.resize(kMaxDepth + 2);
+    levels_[0].front.assign(1, Entry{0, 0, 1});
+    levels_[0].pool.assign(1, 0u);
+    for (std::size_t i = 0; i < spans_.size() && !done_; ++i) interval(i, 0.0, 1.0, 0);
     std::vector<Contact> out;
     if (mode_ == Mode::All) {
       out = std::move(all_);
@@ -437,9 +438,12 @@ class TreeQuery {
 
   double globalTime(const SpanCtx& sc, double s) const { return sc.t0 + s * (sc.t1 - sc.t0); }
 
-  // Span time [a, b] of span i, with the moving nodes still paired with static nodes (front).
-  void interval(std::size_t i, double a, double b, int depth, const std::vector<Entry>& front,
-                std::vector<unsigned> pool) {
+  // Span time [a, b] of span i, with the moving nodes still paired with static nodes: the
+  // entries levels_[depth].front, whose ranges index levels_[depth].pool. Both were filled by
+  // the parent interval and are read, not changed, here (the sibling interval reads them next);
+  // this interval appends its own scratch ranges to the pool and takes them off again before
+  // returning, and fills levels_[depth + 1] for its halves.
+  void interval(std::size_t i, double a, double b, int depth) {
     SpanCtx& sc = spans_[i];
     if (done_) return;
     if (mode_ != Mode::All && best_ && globalTime(sc, a) > best_->t) {
@@ -447,10 +451,18 @@ class TreeQuery {
       return;
     }
     const Frame f = frame(sc, a, b);
-    std::vector<Entry> work(front.rbegin(), front.rend());  // popped from the back: in front order
-    std::vector<Entry> wait;
-    std::vector<LocalItem> reached;
-    std::vector<unsigned> wait_pool;
+    const auto d = static_cast<std::size_t>(depth);
+    std::vector<unsigned>& pool = levels_[d].pool;
+    const std::size_t pool_size = pool.size();
+    std::vector<Entry>& work = work_;
+    work.assign(levels_[d].front.rbegin(), levels_[d].front.rend());  // popped from the back: in front order
+    std::vector<Entry>& wait = levels_[d + 1].front;
+    std::vector<unsigned>& wait_pool = levels_[d + 1].pool;
+    wait.clear();
+    wait_pool.clear();
+    std::vector<LocalItem>& reached = reached_;
+    reached.clear();
+    local_faces_.clear();
     const bool can_halve = depth < kMaxDepth;
     while (!work.empty()) {
       const Entry e = work.back();
@@ -473,21 +485,23 @@ class TreeQuery {
         work.push_back({static_cast<unsigned>(n.left) + 1, mark, stop});
         work.push_back({static_cast<unsigned>(n.left), mark, stop});
       } else {
-        std::vector<unsigned> faces;
+        const auto fb = static_cast<unsigned>(local_faces_.size());
         for (unsigned k = mark; k < stop; ++k) {
           const StaticNode& sn = st_.tree[pool[k]];
           for (unsigned j = sn.first; j < sn.first + sn.count; ++j)
-            if (candidate(t, s, st_.tree_faces[j])) faces.push_back(st_.tree_faces[j]);
+            if (candidate(t, s, st_.tree_faces[j])) local_faces_.push_back(st_.tree_faces[j]);
         }
-        if (!faces.empty()) reached.push_back({a, b, depth, e.node, t, s, std::move(faces)});
+        const auto fe = static_cast<unsigned>(local_faces_.size());
+        if (fe > fb) reached.push_back({a, b, depth, e.node, t, s, fb, fe});
       }
       if (halve || leaf) pool.resize(mark);  // (children of an inner node keep [mark, stop))
     }
+    pool.resize(pool_size);
     local(i, reached);
     if (wait.empty() || done_) return;
     const double m = 0.5 * (a + b);
-    interval(i, a, m, depth + 1, wait, wait_pool);
-    interval(i, m, b, depth + 1, wait, std::move(wait_pool));
+    interval(i, a, m, depth + 1);
+    interval(i, m, b, depth + 1);
   }
 
   // Whether static face g may meet moving triangle t (placed on the current interval, swept box
@@ -501,14 +515,19 @@ class TreeQuery {
   }
 
   // A moving triangle placed on span time [a, b] (swept box s) with the static faces that may
-  // meet it there.
+  // meet it there: local_faces_[begin, end).
   struct LocalItem {
     double a, b;
     int depth;
     unsigned node;
     MovingTriangle t;
     Swept s;
-    std::vector<unsigned> faces;
+    unsigned begin, end;
+  };
+  // Scratch of one depth of the interval recursion (see interval).
+  struct Level {
+    std::vector<Entry> front;
+    std::vector<unsigned> pool;
   };
 
   // The triangles an interval reached, earliest sub-interval first (a heap on a): each is halved
@@ -526,8 +545,8 @@ class TreeQuery {
       heap.pop_back();
       if (mode_ != Mode::All && best_ && globalTime(sc, it.a) > best_->t) break;  // the rest start later
       if (it.depth >= kMaxDepth || it.s.path <= kLocal * std::max(it.s.rho, kLocalFloor * feature_)) {
-        stats.candidate_pairs += it.faces.size();
-        solve(i, it.a, it.b, it.t, it.faces);
+        stats.candidate_pairs += it.end - it.begin;
+        solve(i, it.a, it.b, it.t, it.begin, it.end);
         continue;
       }
       const double m = 0.5 * (it.a + it.b);
@@ -539,17 +558,22 @@ class TreeQuery {
         h.node = it.node;
         const Frame f = frame(sc, h.a, h.b);
         h.s = triangleBox(sc, f, it.node, h.t);
-        for (const unsigned g : it.faces)
-          if (candidate(h.t, h.s, g)) h.faces.push_back(g);
-        if (h.faces.empty()) continue;
+        // (the halves' faces go to the end of local_faces_; the parent's range stays valid)
+        h.begin = static_cast<unsigned>(local_faces_.size());
+        for (unsigned k = it.begin; k < it.end; ++k)
+          if (candidate(h.t, h.s, local_faces_[k])) local_faces_.push_back(local_faces_[k]);
+        h.end = static_cast<unsigned>(local_faces_.size());
+        if (h.end == h.begin) continue;
         heap.push_back(std::move(h));
         std::push_heap(heap.begin(), heap.end(), later);
       }
     }
     heap.clear();
+    local_faces_.clear();
   }
 
-  void solve(std::size_t i, double a, double b, const MovingTriangle& placed, const std::vector<unsigned>& faces) {
+  // Solves moving triangle `placed` against the static faces local_faces_[begin, end).
+  void solve(std::size_t i, double a, double b, const MovingTriangle& placed, unsigned begin, unsigned end) {
     const auto start = Clock::now();
     SpanCtx& sc = spans_[i];
     if (!sc.fwd) {
@@ -559,7 +583,8 @@ class TreeQuery {
     const PairSpan ps{i, sc.t0, sc.t1, sc.fwd.get(), sc.inv.get()};
     MovingTriangle t = placed;
     for (int k = 0; k < 3; ++k) t.W0[k] = sc.span->start().applyPoint(body_.V[static_cast<std::size_t>(t.v[k])]);
-    for (const unsigned g : faces) {
+    for (unsigned k = begin; k < end; ++k) {
+      const unsigned g = local_faces_[k];
       const double hi = mode_ != Mode::All && best_ && best_->span == i ? std::min(b, best_->span_time) : b;
       if (hi < a) continue;
       found_.clear();
@@ -585,6 +610,10 @@ class TreeQuery {
   std::optional<Contact> best_;
   std::vector<Contact> all_, found_;
   std::vector<unsigned> stack_;
+  std::vector<Level> levels_;  // by depth (see interval)
+  std::vector<Entry> work_;
+  std::vector<LocalItem> reached_;
+  std::vector<unsigned> local_faces_;  // the static faces of the LocalItems of one interval
   bool done_ = false;
 };
 
