@@ -285,11 +285,12 @@ class TreeQuery {
   // Halving stops at this depth (2^-24 of a span).
   static constexpr int kMaxDepth = 24;
   // Rules of the search (measured on the benchmark scenes; any values keep the guarantee). An
-  // inner moving node whose travel over an interval exceeds kNodeWait of its radius waits for
-  // the interval to be halved, otherwise its children are tried; a triangle waits while its
-  // travel exceeds kLeafWait of max(its radius, kLeafFloor typical triangle sizes), otherwise
-  // its static candidates are gathered and it is refined alone (see local) until its travel is
-  // at most kLocal of max(its radius, kLocalFloor typical triangle sizes), then solved.
+  // inner moving node whose travel over an interval exceeds kNodeWait of its radius, or the
+  // bounds of both its children (see waitBound), waits for the interval to be halved, otherwise
+  // its children are tried; a triangle waits while its travel exceeds kLeafWait of max(its
+  // radius, kLeafFloor typical triangle sizes), otherwise its static candidates are gathered and
+  // it is refined alone (see local) until its travel is at most kLocal of max(its radius,
+  // kLocalFloor typical triangle sizes), then solved.
   static constexpr double kNodeWait = 0.5;
   static constexpr double kLeafWait = 0.2;
   static constexpr double kLeafFloor = 0.5;
@@ -372,6 +373,22 @@ class TreeQuery {
     s.mag = f.mag;
     s.size = (s.hi - s.lo).maxCoeff();
     return s;
+  }
+
+  // The travel over the interval above which moving node n (of radius rho when posed by f)
+  // waits for the interval to be halved. A triangle waits while its travel exceeds kLeafWait of
+  // max(rho, kLeafFloor typical triangle sizes); an inner node while it exceeds kNodeWait of
+  // its radius, or while both its children would wait on that travel (their own travels are
+  // about as large): descending would only put them in the queue of the halves one by one.
+  double waitBound(const BodyNode& n, double rho, const Frame& f) const {
+    if (n.left < 0) return kLeafWait * std::max(rho, kLeafFloor * feature_);
+    double child = 0;
+    for (int c = 0; c < 2; ++c) {
+      const BodyNode& x = body_.nodes[static_cast<std::size_t>(n.left + c)];
+      const double r = x.hn * f.lscale;
+      child = std::max(child, x.left < 0 ? kLeafWait * std::max(r, kLeafFloor * feature_) : kNodeWait * r);
+    }
+    return std::min(kNodeWait * rho, child);
   }
 
   static bool overlaps(const StaticNode& n, const Swept& s) {
@@ -471,8 +488,7 @@ class TreeQuery {
       MovingTriangle t;
       const bool leaf = n.left < 0;
       const Swept s = leaf ? triangleBox(sc, f, e.node, t) : nodeBox(sc, f, n);
-      const bool halve =
-          can_halve && s.path > (leaf ? kLeafWait * std::max(s.rho, kLeafFloor * feature_) : kNodeWait * s.rho);
+      const bool halve = can_halve && s.path > waitBound(n, s.rho, f);
       const auto mark = static_cast<unsigned>(pool.size());
       filterStatic(s, e.begin, e.end, leaf && !halve, pool);
       const auto stop = static_cast<unsigned>(pool.size());
