@@ -549,6 +549,28 @@ TEST(Envelope, SameEnvelopeOnAnyNumberOfThreads) {
   EXPECT_TRUE(throwsError([&] { sweptEnvelope(body, motion, bad); }, ErrorCode::InvalidArgument, "threads"));
 }
 
+#ifdef STEADY_CGAL_MESHES
+// One of CGAL's sample meshes (Debian's libcgal-demo), centred and scaled to a unit diagonal as
+// in bench/sample_meshes.hpp (bit for bit), and the benchmark's screw: a half turn about a
+// vertical axis at x = 0.5 while rising 1.
+struct SampleOnScrew {
+  steady::io::TriangleMesh mesh;
+  Span3 span;
+};
+SampleOnScrew cgalSampleOnTheBenchmarkScrew(const std::string& name) {
+  steady::io::TriangleMesh mesh = steady::io::readMesh(std::string(STEADY_CGAL_MESHES) + "/" + name);
+  V lo = mesh.vertices.front(), hi = lo;
+  for (const V& x : mesh.vertices) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+  const double s = 1.0 / (hi - lo).norm();
+  const V c = 0.5 * (lo + hi);
+  for (V& x : mesh.vertices) x = s * (x - c);
+  const V axis_point(0.5, 0, 0);
+  const Affine3 end = Affine3::translation(axis_point + V(0, 0, 1)) * Affine3::rotation(V(0, 0, 1), M_PI * (1 - 1e-9)) *
+                      Affine3::translation(-axis_point);
+  return {std::move(mesh), Span3::between(Affine3(), end)};
+}
+#endif
+
 // bunny00 (CGAL's sample mesh, 75k faces, from Debian's libcgal-demo), centred and scaled to a
 // unit diagonal as in bench/, on the benchmark's screw (a half turn about a vertical axis at
 // x = 0.5 while rising 1), tolerance 1e-3: BM_SteadySweep/bunny00/screw/eps0.001. Its envelope
@@ -562,18 +584,10 @@ TEST(Envelope, FoldedFanPinchesOnTheBunnyScrewAreSeparated) {
 #ifndef STEADY_CGAL_MESHES
   GTEST_SKIP() << "CGAL's sample meshes (Debian libcgal-demo) were not found when the build was configured";
 #else
-  steady::io::TriangleMesh mesh = steady::io::readMesh(STEADY_CGAL_MESHES "/bunny00.off");
-  V lo = mesh.vertices.front(), hi = lo;
-  for (const V& x : mesh.vertices) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
-  const double s = 1.0 / (hi - lo).norm();
-  const V c = 0.5 * (lo + hi);
-  for (V& x : mesh.vertices) x = s * (x - c);  // as bench/sample_meshes.hpp, bit for bit
-  const V axis_point(0.5, 0, 0);
-  const Affine3 end = Affine3::translation(axis_point + V(0, 0, 1)) * Affine3::rotation(V(0, 0, 1), M_PI * (1 - 1e-9)) *
-                      Affine3::translation(-axis_point);
+  const SampleOnScrew scene = cgalSampleOnTheBenchmarkScrew("bunny00.off");
   SweepOptions o;
   o.relative_tolerance = 1e-3;
-  const Envelope env = sweptEnvelope(Body(mesh.vertices, mesh.faces), Span3::between(Affine3(), end), o);
+  const Envelope env = sweptEnvelope(Body(scene.mesh.vertices, scene.mesh.faces), scene.span, o);
   EXPECT_GT(env.pinched_vertices_split, 0u);
   EXPECT_EQ(env.pinches_touching, 0u);
   expectOneEmbeddedShell(env);
@@ -591,17 +605,9 @@ TEST(Envelope, SameEnvelopeRunToRunOnTheCgalSphereScrew) {
 #ifndef STEADY_CGAL_MESHES
   GTEST_SKIP() << "CGAL's sample meshes (Debian libcgal-demo) were not found when the build was configured";
 #else
-  steady::io::TriangleMesh mesh = steady::io::readMesh(STEADY_CGAL_MESHES "/sphere.off");
-  V lo = mesh.vertices.front(), hi = lo;
-  for (const V& x : mesh.vertices) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
-  const double s = 1.0 / (hi - lo).norm();
-  const V c = 0.5 * (lo + hi);
-  for (V& x : mesh.vertices) x = s * (x - c);  // as bench/sample_meshes.hpp
-  const V axis_point(0.5, 0, 0);
-  const Affine3 end = Affine3::translation(axis_point + V(0, 0, 1)) * Affine3::rotation(V(0, 0, 1), M_PI * (1 - 1e-9)) *
-                      Affine3::translation(-axis_point);
-  const Body body(mesh.vertices, mesh.faces);
-  const Span3 span = Span3::between(Affine3(), end);
+  const SampleOnScrew scene = cgalSampleOnTheBenchmarkScrew("sphere.off");
+  const Body body(scene.mesh.vertices, scene.mesh.faces);
+  const Span3& span = scene.span;
   for (const double rel : {1e-2, 1e-3}) {
     SweepOptions one;
     one.relative_tolerance = rel;
