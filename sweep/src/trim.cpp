@@ -3,12 +3,15 @@
 // compile); nothing of CGAL leaves this file.
 //
 // 1. Arrangement. Vertices of the cycle with equal coordinates are merged. Pairs of triangles
-//    whose boxes meet (CGAL::box_self_intersection_d) are tested with exact predicates on the
-//    double input (Epick); the pairs that cross are intersected in exact arithmetic (Epeck), and
-//    each crossed triangle is re-triangulated by a constrained Delaunay triangulation of its
+//    whose boxes meet (a box hierarchy, in parallel) are tested with exact predicates on the
+//    double input (Epick); the pairs that cross are intersected in exact arithmetic (Epeck:
+//    named points where an edge crosses a triangle, CGAL's intersection for degenerate pairs),
+//    and each crossed triangle is re-triangulated by a constrained Delaunay triangulation of its
 //    plane (projected along its dominant normal axis) with the intersection segments and points
-//    as constraints. Points are identified by exact equality, so the refined triangles meet
-//    only at shared edges and vertices (coplanar overlaps become shared regions).
+//    as constraints; where constraints cross, the point of three planes is made and named
+//    beforehand, and collinear points known by construction are not evaluated. Points are
+//    identified by name or exact equality, so the refined triangles meet only at shared edges
+//    and vertices (coplanar overlaps become shared regions).
 // 2. Labels. Faces joined across edges that have exactly two faces, traversed in opposite
 //    directions, form patches; the winding number is constant on each side of a patch. For each
 //    patch one exact ray (from a point inside one of its faces, nearly along the face normal's
@@ -277,7 +280,8 @@ struct Constraint {
 // one line are collinear, so orientation tests that the interval filter cannot decide (points
 // on the triangle's edges, on one constraint, or where constraints cross, which are exactly
 // collinear) are answered without evaluating the points in rationals. Points are recognised by
-// their lazy representation (copies of a lazy point share it).
+// their lazy representation (copies of a lazy point share it), which the facts keep alive, so
+// that no other point can be made at the same address while they are consulted.
 class LineFacts {
  public:
   // Registers a projected point with the keys of the lines it lies on (sorted, unique).
@@ -286,6 +290,7 @@ class LineFacts {
     lines.erase(std::unique(lines.begin(), lines.end()), lines.end());
     index_.emplace(p.id(), static_cast<int>(lines_.size()));
     lines_.push_back(std::move(lines));
+    points_.push_back(p);
   }
   // True if p, q and r are known to lie on one line (or two of them are one point). False
   // says nothing.
@@ -302,6 +307,7 @@ class LineFacts {
  private:
   std::unordered_map<CGAL::Handle::Id_type, int> index_;
   std::vector<std::vector<std::uint64_t>> lines_;
+  std::vector<EK::Point_2> points_;  // (holds the representations)
 };
 
 // Line keys within one triangle's plane: where another triangle's plane crosses it (that
