@@ -65,15 +65,24 @@ class FaceTree {
   template <class Visit>
   void alongSegment(const Vec& p, const Vec& q, double pad, Visit&& visit) const {
     const Vec d = q - p;
+    // Slabs in the parameter t of p + t d, by multiplying with 1 / d (within an ulp of the
+    // quotients, far inside the 1e-12 slack); an axis along which the segment does not move
+    // only tests p's coordinate.
+    bool moves[3];
+    Vec inv;
+    for (int k = 0; k < 3; ++k) {
+      moves[k] = d[k] != 0;
+      inv[k] = moves[k] ? 1.0 / d[k] : 0.0;
+    }
     auto hits = [&](const Box& b) {
       double t0 = 0.0, t1 = 1.0;
       for (int k = 0; k < 3; ++k) {
         const double l = b.lo[k] - pad, h = b.hi[k] + pad;
-        if (d[k] == 0) {
+        if (!moves[k]) {
           if (p[k] < l || p[k] > h) return false;
           continue;
         }
-        double s = (l - p[k]) / d[k], e = (h - p[k]) / d[k];
+        double s = (l - p[k]) * inv[k], e = (h - p[k]) * inv[k];
         if (s > e) std::swap(s, e);
         t0 = std::max(t0, s - 1e-12);
         t1 = std::min(t1, e + 1e-12);
