@@ -72,8 +72,8 @@ struct SceneData {
   }
 };
 
-/// Builds SceneData::tree (median splits along the longest axis of the face centroids, at most
-/// four faces per leaf).
+/// Builds SceneData::tree (median splits along the longest axis of the face centroids, one face
+/// per leaf).
 void buildStaticTree(SceneData& s);
 
 /// One moving triangle prepared for the exact solves of an interval of a span: its vertex indices
