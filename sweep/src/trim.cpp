@@ -1648,9 +1648,9 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
 // the polygon (cubic in its size: about 3e5 candidate triangles at this size), which chooses the
 // same filling on every run. CGAL's faster search within a 3D Delaunay triangulation of the
 // points, used for longer loops and for the short ones the first filling leaves crossing
-// something, chooses among fillings of equal weight by the memory layout of its triangulation:
-// called twice on the same loops in one process, it filled 51 of 5,208 mouth loops of the CGAL
-// sphere screw differently (8 and 9 points), and envelopes changed from run to run on two
+// something, does not always fill a loop the same way: called twice on the same loops in one
+// process, it filled 51 of 5,208 mouth loops of the CGAL sphere screw differently (8 and 9
+// points; the cause inside CGAL was not traced), and envelopes changed from run to run on two
 // threads.
 constexpr std::size_t kCubicHoleFilling = 128;
 
