@@ -294,7 +294,7 @@ class TreeQuery {
   // radius, kLeafFloor typical triangle sizes), otherwise its static candidates are gathered and
   // it is refined alone (see local) until its travel is at most kLocal of max(its radius,
   // kLocalFloor typical triangle sizes), then solved.
-  static constexpr double kNodeWait = 0.5;
+  static constexpr double kNodeWait = 0.3;
   static constexpr double kLeafWait = 0.2;
   static constexpr double kLeafFloor = 0.5;
   static constexpr double kLocal = 0.1;

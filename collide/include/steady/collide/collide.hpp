@@ -140,7 +140,7 @@ struct Clearance {
 /// A node's swept box is its posed box grown by these travels, by the contact distance, and by
 /// a rounding margin of 1e-13 of the magnitudes involved. Pairs of (moving node, static node)
 /// whose boxes are apart are dropped for the interval; the larger box of a pair is split; a
-/// node whose travel exceeds half its radius, or on which both its children would wait, waits
+/// node whose travel exceeds 0.3 of its radius, or on which both its children would wait, waits
 /// for the interval to be halved (with its static partners: a sub-interval's sweep lies inside
 /// the parent's bound). A triangle gathers the
 /// static faces that its swept box meets and that no separating axis parts from it (its middle
