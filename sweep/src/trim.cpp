@@ -517,31 +517,28 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
     T.push_back(m);
   }
 
-  // Crossing pairs (boxes of the exact points' interval approximations) and their exact
-  // intersections. Every point gets its number when it is made: points are identified by exact
-  // equality (the map's comparisons are exact only where the interval filter fails, that is
-  // for equal or nearly equal points), and cut points by their names first.
-  // The inexact points are evaluated exactly first: the parallel tests below then leave every
-  // point's interval as it was, and the doubles of the points made from them do not depend on
-  // the tests' timing (see Arrangement::approx). `pad` bounds how far their doubles are from them.
-  std::vector<Vec> near(ip.size());
-  double pad = 0;
-  for (std::size_t v = 0; v < ip.size(); ++v) {
-    near[v] = Vec(ip[v].x(), ip[v].y(), ip[v].z());
-    if (!inexact[v]) continue;
-    (void)ep[v].exact();
-    const CGAL::Bbox_3 b = ep[v].bbox();
-    for (int k = 0; k < 3; ++k)
-      pad = std::max({pad, near[v][k] - b.min(k), b.max(k) - near[v][k]});
-  }
-  pad = 2 * pad;  // (rounding of the comparisons above)
-  const auto pairs = crossingPairs(near, pad, T, options.threads, [&](int i, int j) {
-    return plain(T[i]) && plain(T[j]) ? crosses(ip, T[i], T[j]) : crosses(ep, T[i], T[j]);
-  });
+  // Crossing pairs and their exact intersections. Every point gets its number when it is made:
+  // points are identified by exact equality (the map's comparisons are exact only where the
+  // interval filter fails, that is for equal or nearly equal points), and cut points by their
+  // names first. The inexact points are evaluated exactly first: the parallel tests of the pairs
+  // then leave every point's interval as it was, and the doubles of the points made from them do
+  // not depend on the tests' timing (see Arrangement::approx). `pad` bounds how far the inexact
+  // points' doubles are from them.
   Arrangement out;
   out.points = ep;
   out.approx.reserve(ip.size());
-  for (const IPoint& x : ip) out.approx.emplace_back(x.x(), x.y(), x.z());
+  double pad = 0;
+  for (std::size_t v = 0; v < ip.size(); ++v) {
+    const Vec& x = out.approx.emplace_back(ip[v].x(), ip[v].y(), ip[v].z());
+    if (!inexact[v]) continue;
+    (void)ep[v].exact();
+    const CGAL::Bbox_3 b = ep[v].bbox();
+    for (int k = 0; k < 3; ++k) pad = std::max({pad, x[k] - b.min(k), b.max(k) - x[k]});
+  }
+  pad = 2 * pad;  // (rounding of the comparisons above)
+  const auto pairs = crossingPairs(out.approx, pad, T, options.threads, [&](int i, int j) {
+    return plain(T[i]) && plain(T[j]) ? crosses(ip, T[i], T[j]) : crosses(ep, T[i], T[j]);
+  });
   std::map<EPoint, int> index;
   for (std::size_t v = 0; v < ep.size(); ++v) index.emplace(ep[v], static_cast<int>(v));
   // Numbers p; a new point gets `fixed` as its doubles if given, else its current interval's
@@ -1572,7 +1569,7 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
   std::vector<IPoint> P;
   P.reserve(A.points.size());
   for (const Vec& x : A.approx) P.emplace_back(x.x(), x.y(), x.z());
-  auto vec = [&](int v) { return Vec(P[v].x(), P[v].y(), P[v].z()); };
+  auto vec = [&](int v) -> const Vec& { return A.approx[v]; };
   auto ipoint = [](const Vec& x) { return IPoint(x.x(), x.y(), x.z()); };
   // Per selected face with a usable normal: the unit normal towards its empty side and its box
   // (the walls); per face of a patch that is not buried, four probe segments (origin 0 the
@@ -1733,15 +1730,8 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
   std::vector<IPoint> P;
   P.reserve(V.size());
   for (const Vec& x : V) P.emplace_back(x.x(), x.y(), x.z());
-  auto boxes = [&](const std::vector<Tri>& list) {
-    std::vector<Box> out;
-    out.reserve(list.size());
-    for (std::size_t i = 0; i < list.size(); ++i)
-      out.emplace_back(P[list[i][0]].bbox() + P[list[i][1]].bbox() + P[list[i][2]].bbox(), i);
-    return out;
-  };
-  detail::FaceTree surface;  // over T, built when first needed
-  bool surface_built = false;
+  detail::FaceTree surface;
+  surface.build(V, T);
   std::vector<Tri> added;
   std::vector<int> loop_of;  // per added face: its loop
   // The loops that cannot be filled as they are: no triangulation, or a filling face that
@@ -1765,7 +1755,6 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
                                         [](const EdgeUse& e, std::uint64_t x) { return e.key < x; });
         if (u->faces != 2 || u->net != 0) bad[loop_of[f]] = 1;
       }
-    if (!surface_built) surface.build(V, T), surface_built = true;
     for (std::size_t f = 0; f < added.size(); ++f) {
       if (bad[loop_of[f]]) continue;
       const Tri& t = added[f];
@@ -1776,7 +1765,10 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
         return false;
       });
     }
-    std::vector<Box> added_boxes = boxes(added);
+    std::vector<Box> added_boxes;
+    added_boxes.reserve(added.size());
+    for (std::size_t f = 0; f < added.size(); ++f)
+      added_boxes.emplace_back(P[added[f][0]].bbox() + P[added[f][1]].bbox() + P[added[f][2]].bbox(), f);
     CGAL::box_self_intersection_d(added_boxes.begin(), added_boxes.end(), [&](const Box& a, const Box& b) {
       if (crosses(P, added[a.info()], added[b.info()])) bad[loop_of[a.info()]] = bad[loop_of[b.info()]] = 1;
     });
