@@ -327,7 +327,7 @@ int main(int argc, char** argv) {
       "when it is a terminal and the sweep takes more than a second.\n"
       "Report: {\"volume\", \"area\", \"vertices\", \"faces\", \"tolerance\": {\"absolute\", \"relative\",\n"
       "  \"body_diagonal\"}, \"spans\", \"cycle_triangles\", \"intersecting_pairs\", \"arrangement_triangles\",\n"
-      "  \"patches\", \"ray_retries\", \"thin_cavities_removed\", \"thin_solids_removed\",\n"
+      "  \"patches\", \"ray_retries\", \"patches_by_ray\", \"thin_cavities_removed\", \"thin_solids_removed\",\n"
       "  \"buried_patches_removed\", \"crack_faces_removed\", \"pocket_mouths_filled\", \"rounding_merged\",\n"
       "  \"pinched_vertices_split\", \"pinches_touching\",\n"
       "  \"check\": {\"closed\", \"manifold\", \"oriented\", \"self_intersections\" (null with --no-check),\n"

@@ -13,14 +13,19 @@
 //    identified by name or exact equality, so the refined triangles meet only at shared edges
 //    and vertices (coplanar overlaps become shared regions).
 // 2. Labels. Faces joined across edges that have exactly two faces, traversed in opposite
-//    directions, form patches; the winding number is constant on each side of a patch. For each
-//    patch one exact ray (from a point inside one of its faces, nearly along the face normal's
-//    dominant axis towards the nearer side of the scene's box, randomly tilted) counts the
-//    signed crossings of all other faces: the winding number w on the side of the patch it
-//    leaves (front, or back: then w_front = w_back - jump). Faces coplanar with the ray's origin
-//    and containing it (overlapping copies) add their orientation to the jump across the patch
-//    instead. A ray
-//    through an edge or a vertex of some face is re-cast from another point and direction.
+//    directions, form patches; the winding number is constant on each side of a patch. Around
+//    every other edge the faces are ordered by angle (exact predicates), and two consecutive
+//    faces bound one cell: this relates the winding numbers of their patches, and the patches
+//    related this way form a few connected groups. One exact ray per group (from a point inside
+//    one of its faces, nearly along the face normal's dominant axis towards the nearer side of
+//    the scene's box, randomly tilted) counts the signed crossings of all other faces: the
+//    winding number w on the side of the patch it leaves (front, or back: then
+//    w_front = w_back - jump); the relations give the rest. Rays from a sample of other patches
+//    must agree, or their group is labelled patch by patch with rays, as is a group with
+//    contradicting relations or faces that the angles cannot order (coplanar layers cut
+//    differently). Faces coplanar with a ray's origin and containing it (overlapping copies)
+//    add their orientation to the jump across the patch instead. A ray through an edge or a
+//    vertex of some face is re-cast from another point and direction.
 // 3. Selection. The envelope is the set of faces with w = 0 on one side and w >= 1 on the other,
 //    oriented towards w = 0; of overlapping copies one is kept. Coordinates are rounded to
 //    double at the very end; then nearly equal vertices are merged, thin cavities removed, and
@@ -794,8 +799,108 @@ struct Labels {
   std::vector<int> w_front;    // per patch: winding number on the side the faces' normals face
   std::vector<int> jump;       // per patch: w_back - w_front (overlapping copies included)
   std::vector<int> group;      // per patch: smallest patch among its overlapping copies
+  std::size_t rays = 0;        // patches labelled by a ray of their own
   std::size_t retries = 0;
+  std::size_t disagreements = 0;  // checked patches whose ray disagreed with the propagation
 };
+
+// Patches whose rays check the labels propagated across edges (spread evenly over the patches).
+constexpr std::size_t kLabelChecks = 64;
+
+// A relation between the winding numbers on the front sides of two patches: x_p - x_q = c. A
+// step with p = -1 marks patch q as met at an edge whose faces could not be ordered.
+struct Step {
+  int p, q, c;
+};
+
+// The steps across every edge where other than two oppositely running faces meet (`sides`: the
+// face sides of every edge, (edge key, face + 1 or -(face + 1)), sorted by edge, as label makes
+// them), in the order of the edges. Around such an edge (a, b), a < b, the faces are ordered by
+// the angle of their third vertex c about the axis b - a, from the first face's: c is in the
+// open half-space in front of the first face (angle in (0, pi)) or behind it, or in its
+// half-plane's continuation (pi); two faces in one open half-space by orientation(a, b, c_i,
+// c_j). A face running from a to b has its normal towards increasing angle, so with w_f and
+// w_b of a face on its front and back (w_b = w_f + its weight), consecutive faces i, i + 1
+// share a cell: w on the increasing side of i equals w on the decreasing side of i + 1. Two
+// faces in one half-plane (an exact tie) have no cell between them: the edge gives only markers.
+std::vector<Step> crossEdges(const Arrangement& A, const std::vector<int>& patch,
+                             const std::vector<std::pair<std::uint64_t, int>>& sides, int threads) {
+  std::vector<std::pair<std::size_t, std::size_t>> edges;  // side ranges of the edges that count
+  for (std::size_t i = 0, j = 0; i < sides.size(); i = j) {
+    while (j < sides.size() && sides[j].first == sides[i].first) ++j;
+    if (!(j - i == 2 && (sides[i].second > 0) != (sides[i + 1].second > 0))) edges.emplace_back(i, j);
+  }
+  constexpr int kUnset = std::numeric_limits<int>::min();
+  std::vector<Step> at(sides.size(), Step{kUnset, 0, 0});  // indexed like sides
+  const auto& P = A.points;
+  parallelFor(0, edges.size(), threads, [&](std::size_t e) {
+    const auto [i, j] = edges[e];
+    const int a = static_cast<int>(sides[i].first >> 32), b = static_cast<int>(sides[i].first & 0xffffffffu);
+    struct Around {
+      int face, third, half;
+      bool forward;
+    };
+    std::vector<Around> r;
+    r.reserve(j - i);
+    for (std::size_t k = i; k < j; ++k) {
+      const int f = std::abs(sides[k].second) - 1;
+      const Tri& t = A.faces[static_cast<std::size_t>(f)];
+      int third = t[0];
+      for (int v : t)
+        if (v != a && v != b) third = v;
+      r.push_back({f, third, 0, sides[k].second > 0});
+    }
+    const EPoint &pa = P[a], &pb = P[b], &c0 = P[r[0].third];
+    bool tie = false;
+    const int source0 = A.source[static_cast<std::size_t>(r[0].face)];
+    for (std::size_t n = 1; n < r.size() && !tie; ++n) {
+      // A face cut from the first face's cycle triangle lies in its plane, across the edge
+      // (one triangulation has at most two faces at an edge): decided without arithmetic,
+      // where the predicates would have to evaluate exactly.
+      if (A.source[static_cast<std::size_t>(r[n].face)] == source0) {
+        r[n].half = 2;
+        continue;
+      }
+      const EPoint& c = P[r[n].third];
+      const auto o = CGAL::orientation(pa, pb, c0, c);
+      if (o == CGAL::POSITIVE) {
+        r[n].half = 1;
+      } else if (o == CGAL::NEGATIVE) {
+        r[n].half = 3;
+      } else if (CGAL::coplanar_orientation(pa, pb, c0, c) == CGAL::NEGATIVE) {
+        r[n].half = 2;
+      } else {
+        tie = true;
+      }
+    }
+    if (!tie)
+      std::sort(r.begin(), r.end(), [&](const Around& x, const Around& y) {
+        if (x.half != y.half) return x.half < y.half;
+        if (x.face == y.face) return false;
+        // (two faces of one cycle triangle are never in one half)
+        const bool apart = A.source[static_cast<std::size_t>(x.face)] != A.source[static_cast<std::size_t>(y.face)];
+        const auto o = x.half % 2 && apart ? CGAL::orientation(pa, pb, P[x.third], P[y.third]) : CGAL::COPLANAR;
+        if (o == CGAL::COPLANAR) tie = true;
+        return o == CGAL::POSITIVE;
+      });
+    const std::size_t k = r.size();
+    for (std::size_t n = 0; n < k; ++n) {
+      const Around &x = r[n], &y = r[(n + 1) % k];
+      if (tie) {
+        at[i + n] = {-1, patch[static_cast<std::size_t>(x.face)], 0};
+        continue;
+      }
+      const int increasing = x.forward ? 0 : A.weight[static_cast<std::size_t>(x.face)];
+      const int decreasing = y.forward ? A.weight[static_cast<std::size_t>(y.face)] : 0;
+      at[i + n] = {patch[static_cast<std::size_t>(x.face)], patch[static_cast<std::size_t>(y.face)],
+                   decreasing - increasing};
+    }
+  });
+  std::vector<Step> steps;
+  for (const Step& st : at)
+    if (st.p != kUnset) steps.push_back(st);
+  return steps;
+}
 
 Labels label(const Arrangement& A, const SweepOptions& options) {
   const auto& P = A.points;
@@ -821,7 +926,6 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
     if (j - i == 2 && (sides[i].second > 0) != (sides[i + 1].second > 0))
       parent[findRoot(parent, std::abs(sides[i].second) - 1)] = findRoot(parent, std::abs(sides[i + 1].second) - 1);
   }
-  sides = {};
   L.patch.assign(nf, -1);
   std::vector<int> rep;  // per patch: its largest face (approximate area)
   std::vector<double> rep_area;
@@ -842,6 +946,15 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
   const std::size_t np = rep.size();
   parent = {};
   patch_of_root = {};
+
+  // Winding numbers across the patches' boundary edges. Around an edge where other than two
+  // opposite faces meet, the faces are ordered by angle (exact predicates); consecutive faces
+  // bound one cell, so the sides of two faces that face each other have the same winding
+  // number. With x_p = w_front of patch p, each such pair gives x_p - x_q = c. Edges with two
+  // faces in one half-plane (coplanar layers not cut alike: the overlapping copies the rays
+  // handle) give none and mark their patches.
+  const std::vector<Step> steps = crossEdges(A, L.patch, sides, options.threads);
+  sides = {};
 
   // The faces' boxes (approximate coordinates, widened by `pad` below so that they hold the
   // exact triangles) in a hierarchy, for the rays.
@@ -892,8 +1005,6 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
   L.w_front.assign(np, 0);
   L.jump.assign(np, 0);
   L.group.assign(np, 0);
-  std::vector<int> todo(np);
-  std::iota(todo.begin(), todo.end(), 0);
   // Each ray meets the faces whose widened boxes its segment meets (its origin's interval box
   // adds its own width), in parallel over the rays.
   auto meet = [&](Ray& r, std::size_t f) {
@@ -941,44 +1052,121 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
     // Leaving through the face along its normal counts +1 (the origin is behind it).
     r.crossings += (s_from == CGAL::NEGATIVE ? 1 : -1) * A.weight[f];
   };
-  for (int round = 0; !todo.empty(); ++round) {
-    if (round == 16)
-      throw Error(ErrorCode::DegenerateInput,
-                  "sweptEnvelope: " + std::to_string(todo.size()) +
-                      " patches of the swept surface could not be labelled (every ray met an edge); "
-                      "this is a bug: please report it with the body and the motion");
-    if (options.progress) options.progress({"label", round == 0 ? 0.0 : 0.9});
-    // Rays in chunks (each holds exact points; a large sweep has hundreds of thousands).
-    constexpr std::size_t kChunk = 1 << 16;
-    std::vector<int> again;
-    std::vector<Ray> rays;
-    for (std::size_t c0 = 0; c0 < todo.size(); c0 += kChunk) {
-      const std::size_t c1 = std::min(todo.size(), c0 + kChunk);
-      rays.clear();
-      for (std::size_t i = c0; i < c1; ++i) rays.push_back(makeRay(todo[i], round == 0));
-      parallelFor(0, rays.size(), options.threads, [&](std::size_t i) {
-        Ray& r = rays[i];
-        const CGAL::Bbox_3 b = r.from.bbox();
-        const Vec from(0.5 * (b.xmin() + b.xmax()), 0.5 * (b.ymin() + b.ymax()), 0.5 * (b.zmin() + b.zmax()));
-        const Vec to(CGAL::to_double(r.to.x()), CGAL::to_double(r.to.y()), CGAL::to_double(r.to.z()));
-        const double width = std::max({b.xmax() - b.xmin(), b.ymax() - b.ymin(), b.zmax() - b.zmin()});
-        tree.alongSegment(from, to, 2 * pad + width, [&](int f) { meet(r, static_cast<std::size_t>(f)); });
-      });
-      for (std::size_t r = 0; r < rays.size(); ++r) {
-        const int p = todo[c0 + r];
-        if (rays[r].degenerate) {
-          again.push_back(p);
-          continue;
+  // Casts the rays of patches `todo` (re-cast until none is degenerate) and stores their labels.
+  auto castRays = [&](std::vector<int> todo) {
+    L.rays += todo.size();
+    for (int round = 0; !todo.empty(); ++round) {
+      if (round == 16)
+        throw Error(ErrorCode::DegenerateInput,
+                    "sweptEnvelope: " + std::to_string(todo.size()) +
+                        " patches of the swept surface could not be labelled (every ray met an edge); "
+                        "this is a bug: please report it with the body and the motion");
+      if (options.progress) options.progress({"label", round == 0 ? 0.0 : 0.9});
+      // Rays in chunks (each holds exact points; a large sweep has hundreds of thousands).
+      constexpr std::size_t kChunk = 1 << 16;
+      std::vector<int> again;
+      std::vector<Ray> rays;
+      for (std::size_t c0 = 0; c0 < todo.size(); c0 += kChunk) {
+        const std::size_t c1 = std::min(todo.size(), c0 + kChunk);
+        rays.clear();
+        for (std::size_t i = c0; i < c1; ++i) rays.push_back(makeRay(todo[i], round == 0));
+        parallelFor(0, rays.size(), options.threads, [&](std::size_t i) {
+          Ray& r = rays[i];
+          const CGAL::Bbox_3 b = r.from.bbox();
+          const Vec from(0.5 * (b.xmin() + b.xmax()), 0.5 * (b.ymin() + b.ymax()), 0.5 * (b.zmin() + b.zmax()));
+          const Vec to(CGAL::to_double(r.to.x()), CGAL::to_double(r.to.y()), CGAL::to_double(r.to.z()));
+          const double width = std::max({b.xmax() - b.xmin(), b.ymax() - b.ymin(), b.zmax() - b.zmin()});
+          tree.alongSegment(from, to, 2 * pad + width, [&](int f) { meet(r, static_cast<std::size_t>(f)); });
+        });
+        for (std::size_t r = 0; r < rays.size(); ++r) {
+          const int p = todo[c0 + r];
+          if (rays[r].degenerate) {
+            again.push_back(p);
+            continue;
+          }
+          // A ray cast to the back side counts w_back = w_front + jump.
+          L.w_front[p] = rays[r].back ? rays[r].crossings - rays[r].jump : rays[r].crossings;
+          L.jump[p] = rays[r].jump;
+          L.group[p] = rays[r].group;
         }
-        // A ray cast to the back side counts w_back = w_front + jump.
-        L.w_front[p] = rays[r].back ? rays[r].crossings - rays[r].jump : rays[r].crossings;
-        L.jump[p] = rays[r].jump;
-        L.group[p] = rays[r].group;
       }
+      L.retries += again.size();
+      todo.swap(again);
     }
-    L.retries += again.size();
-    todo.swap(again);
+  };
+
+  // Components of patches related by the steps (a union-find that keeps each patch's offset to
+  // its root: x_p = x_root + off[p]). A component whose steps contradict each other, or that
+  // has a tied edge, is labelled by rays alone (a cycle sum other than 0 means an arrangement
+  // that is not what it should be; it has not been seen).
+  std::vector<int> root(np), off(np, 0);
+  std::iota(root.begin(), root.end(), 0);
+  auto find = [&](int x) {
+    int r = x, sum = 0;
+    while (root[r] != r) sum += off[r], r = root[r];
+    for (int y = x; root[y] != y;) {  // path compression, keeping the offsets right
+      const int next = root[y], o = off[y];
+      root[y] = r, off[y] = sum, sum -= o, y = next;
+    }
+    return r;
+  };
+  std::vector<char> bad(np, 0);
+  for (const Step& st : steps) {
+    if (st.p < 0) {
+      bad[st.q] = 1;
+      continue;
+    }
+    const int rp = find(st.p), rq = find(st.q);
+    if (rp == rq) {
+      if (off[st.p] - off[st.q] != st.c) bad[rp] = 1;
+      continue;
+    }
+    root[rq] = rp;
+    off[rq] = off[st.p] - off[st.q] - st.c;
   }
+  std::vector<char> bad_root(np, 0);
+  for (std::size_t p = 0; p < np; ++p)
+    if (bad[p]) bad_root[find(static_cast<int>(p))] = 1;
+  // Rays: one per component (its first patch), every patch of a bad component, and a check
+  // sample of kLabelChecks patches spread over the rest, whose rays must agree with the
+  // propagated labels.
+  std::vector<int> leader(np, -1);
+  std::vector<char> rayed(np, 0);
+  for (std::size_t p = 0; p < np; ++p) {
+    const int r = find(static_cast<int>(p));
+    if (leader[r] < 0) leader[r] = static_cast<int>(p), rayed[p] = 1;
+    if (bad_root[r]) rayed[p] = 1;
+  }
+  for (std::size_t k = 0; k < kLabelChecks && np > 0; ++k) rayed[k * np / kLabelChecks] = 1;
+  std::vector<int> todo;
+  for (std::size_t p = 0; p < np; ++p)
+    if (rayed[p]) todo.push_back(static_cast<int>(p));
+  castRays(std::move(todo));
+  // A leader whose ray met an overlapping copy (or a jump other than its weight) makes its
+  // component bad too; so does a checked patch whose ray disagrees.
+  auto propagated = [&](std::size_t p, int x_root) {
+    return std::array<int, 3>{x_root + off[p], A.weight[static_cast<std::size_t>(rep[p])], static_cast<int>(p)};
+  };
+  for (std::size_t p = 0; p < np; ++p) {
+    const int r = find(static_cast<int>(p)), l = leader[r];
+    if (bad_root[r]) continue;
+    const int x_root = L.w_front[l] - off[l];
+    if (rayed[p] && std::array<int, 3>{L.w_front[p], L.jump[p], L.group[p]} != propagated(p, x_root)) {
+      bad_root[r] = 1;
+      ++L.disagreements;
+    }
+  }
+  todo.clear();
+  for (std::size_t p = 0; p < np; ++p) {
+    const int r = find(static_cast<int>(p));
+    if (bad_root[r] && !rayed[p]) {
+      todo.push_back(static_cast<int>(p));
+    } else if (!bad_root[r] && !rayed[p]) {
+      const auto x = propagated(p, L.w_front[leader[r]] - off[leader[r]]);
+      L.w_front[p] = x[0], L.jump[p] = x[1], L.group[p] = x[2];
+    }
+  }
+  castRays(std::move(todo));
   return L;
 }
 
@@ -1822,6 +2010,7 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
   const Labels L = label(A, options);
   env.patches = L.w_front.size();
   env.ray_retries = L.retries;
+  env.patches_by_ray = L.rays;
   env.timings.label = seconds(t0);
 
   // Faces with w = 0 on one side and w >= 1 on the other, towards w = 0; one of each overlap.

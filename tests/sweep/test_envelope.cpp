@@ -89,6 +89,10 @@ void checkEnvelope(const Mesh& mesh, const Motion3& motion, const Envelope& env,
     const long euler = static_cast<long>(ev.size()) - static_cast<long>(3 * ef.size() / 2) + static_cast<long>(ef.size());
     EXPECT_EQ(euler, co.expected_euler) << "Euler characteristic V - E + F";
   }
+  // Winding numbers cross the edges where patches meet; rays label one patch per connected
+  // group and a check sample of 64, whose rays must agree (a disagreement rays the whole group).
+  EXPECT_LE(env.patches_by_ray, std::min<std::size_t>(env.patches, 64 + co.expected_shells + 2))
+      << "labels propagated across edges disagreed with their check rays";
   // The reported measures against our own.
   const double vol = meshVolume(ev, ef), area = meshArea(ev, ef);
   EXPECT_NEAR(env.volume, vol, 1e-9 * std::abs(vol));

@@ -122,6 +122,9 @@ struct Envelope {
   std::size_t coincident_cancelled = 0;
   std::size_t patches = 0;               ///< patches labelled with a winding number
   std::size_t ray_retries = 0;           ///< rays re-cast because they hit an edge or vertex
+  /// Patches labelled by a ray of their own: one per connected group of patches, plus a check
+  /// sample (the others take their winding numbers across the edges where patches meet).
+  std::size_t patches_by_ray = 0;
   /// Cavities (inner shells) thinner than ε on average (2 |volume| / area <= ε) that were
   /// removed: pockets pinched between a cap and a strip leaving it tangentially, artefacts of
   /// the tessellation within the tolerance.
