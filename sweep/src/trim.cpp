@@ -825,16 +825,23 @@ struct Step {
 // faces in one half-plane (an exact tie) have no cell between them: the edge gives only markers.
 std::vector<Step> crossEdges(const Arrangement& A, const std::vector<int>& patch,
                              const std::vector<std::pair<std::uint64_t, int>>& sides, int threads) {
-  std::vector<std::pair<std::size_t, std::size_t>> edges;  // side ranges of the edges that count
+  std::vector<std::size_t> edges;  // the first side of each edge that counts, and the end
   for (std::size_t i = 0, j = 0; i < sides.size(); i = j) {
     while (j < sides.size() && sides[j].first == sides[i].first) ++j;
-    if (!(j - i == 2 && (sides[i].second > 0) != (sides[i + 1].second > 0))) edges.emplace_back(i, j);
+    if (!(j - i == 2 && (sides[i].second > 0) != (sides[i + 1].second > 0))) edges.push_back(i);
   }
-  constexpr int kUnset = std::numeric_limits<int>::min();
-  std::vector<Step> at(sides.size(), Step{kUnset, 0, 0});  // indexed like sides
+  // Edge e's steps go to steps[first[e], first[e] + its face count).
+  std::vector<std::size_t> first(edges.size() + 1, 0);
+  auto end = [&](std::size_t e) {
+    std::size_t j = edges[e] + 1;
+    while (j < sides.size() && sides[j].first == sides[edges[e]].first) ++j;
+    return j;
+  };
+  for (std::size_t e = 0; e < edges.size(); ++e) first[e + 1] = first[e] + (end(e) - edges[e]);
+  std::vector<Step> steps(first.back());
   const auto& P = A.points;
   parallelFor(0, edges.size(), threads, [&](std::size_t e) {
-    const auto [i, j] = edges[e];
+    const std::size_t i = edges[e], j = end(e), o = first[e];
     const int a = static_cast<int>(sides[i].first >> 32), b = static_cast<int>(sides[i].first & 0xffffffffu);
     struct Around {
       int face, third, half;
@@ -887,18 +894,15 @@ std::vector<Step> crossEdges(const Arrangement& A, const std::vector<int>& patch
     for (std::size_t n = 0; n < k; ++n) {
       const Around &x = r[n], &y = r[(n + 1) % k];
       if (tie) {
-        at[i + n] = {-1, patch[static_cast<std::size_t>(x.face)], 0};
+        steps[o + n] = {-1, patch[static_cast<std::size_t>(x.face)], 0};
         continue;
       }
       const int increasing = x.forward ? 0 : A.weight[static_cast<std::size_t>(x.face)];
       const int decreasing = y.forward ? A.weight[static_cast<std::size_t>(y.face)] : 0;
-      at[i + n] = {patch[static_cast<std::size_t>(x.face)], patch[static_cast<std::size_t>(y.face)],
-                   decreasing - increasing};
+      steps[o + n] = {patch[static_cast<std::size_t>(x.face)], patch[static_cast<std::size_t>(y.face)],
+                      decreasing - increasing};
     }
   });
-  std::vector<Step> steps;
-  for (const Step& st : at)
-    if (st.p != kUnset) steps.push_back(st);
   return steps;
 }
 
