@@ -957,8 +957,43 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
   // number. With x_p = w_front of patch p, each such pair gives x_p - x_q = c. Edges with two
   // faces in one half-plane (coplanar layers not cut alike: the overlapping copies the rays
   // handle) give none and mark their patches.
-  const std::vector<Step> steps = crossEdges(A, L.patch, sides, options.threads);
-  sides = {};
+  //
+  // Components of patches related by the steps (a union-find that keeps each patch's offset to
+  // its root: x_p = x_root + off[p]). A component whose steps contradict each other, or that
+  // has a tied edge, is labelled by rays alone (a cycle sum other than 0 means an arrangement
+  // that is not what it should be; it has not been seen). The steps are let go before the rays.
+  std::vector<int> root(np), off(np, 0);
+  std::iota(root.begin(), root.end(), 0);
+  auto find = [&](int x) {
+    int r = x, sum = 0;
+    while (root[r] != r) sum += off[r], r = root[r];
+    for (int y = x; root[y] != y;) {  // path compression, keeping the offsets right
+      const int next = root[y], o = off[y];
+      root[y] = r, off[y] = sum, sum -= o, y = next;
+    }
+    return r;
+  };
+  std::vector<char> bad(np, 0);
+  {
+    const std::vector<Step> steps = crossEdges(A, L.patch, sides, options.threads);
+    sides = {};
+    for (const Step& st : steps) {
+      if (st.p < 0) {
+        bad[st.q] = 1;
+        continue;
+      }
+      const int rp = find(st.p), rq = find(st.q);
+      if (rp == rq) {
+        if (off[st.p] - off[st.q] != st.c) bad[rp] = 1;
+        continue;
+      }
+      root[rq] = rp;
+      off[rq] = off[st.p] - off[st.q] - st.c;
+    }
+  }
+  std::vector<char> bad_root(np, 0);
+  for (std::size_t p = 0; p < np; ++p)
+    if (bad[p]) bad_root[find(static_cast<int>(p))] = 1;
 
   // The faces' boxes (approximate coordinates, widened by `pad` below so that they hold the
   // exact triangles) in a hierarchy, for the rays.
@@ -1099,38 +1134,6 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
     }
   };
 
-  // Components of patches related by the steps (a union-find that keeps each patch's offset to
-  // its root: x_p = x_root + off[p]). A component whose steps contradict each other, or that
-  // has a tied edge, is labelled by rays alone (a cycle sum other than 0 means an arrangement
-  // that is not what it should be; it has not been seen).
-  std::vector<int> root(np), off(np, 0);
-  std::iota(root.begin(), root.end(), 0);
-  auto find = [&](int x) {
-    int r = x, sum = 0;
-    while (root[r] != r) sum += off[r], r = root[r];
-    for (int y = x; root[y] != y;) {  // path compression, keeping the offsets right
-      const int next = root[y], o = off[y];
-      root[y] = r, off[y] = sum, sum -= o, y = next;
-    }
-    return r;
-  };
-  std::vector<char> bad(np, 0);
-  for (const Step& st : steps) {
-    if (st.p < 0) {
-      bad[st.q] = 1;
-      continue;
-    }
-    const int rp = find(st.p), rq = find(st.q);
-    if (rp == rq) {
-      if (off[st.p] - off[st.q] != st.c) bad[rp] = 1;
-      continue;
-    }
-    root[rq] = rp;
-    off[rq] = off[st.p] - off[st.q] - st.c;
-  }
-  std::vector<char> bad_root(np, 0);
-  for (std::size_t p = 0; p < np; ++p)
-    if (bad[p]) bad_root[find(static_cast<int>(p))] = 1;
   // Rays: one per component (its first patch), every patch of a bad component, and a check
   // sample of kLabelChecks patches spread over the rest, whose rays must agree with the
   // propagated labels.
