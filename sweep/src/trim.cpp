@@ -2017,16 +2017,15 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
                                         [](const EdgeUse& e, std::uint64_t x) { return e.key < x; });
         if (u->faces != 2 || u->net != 0) bad[loop_of[f]] = 1;
       }
-    for (std::size_t f = 0; f < added.size(); ++f) {
-      if (bad[loop_of[f]]) continue;
+    std::vector<char> crossing(added.size(), 0);  // (per face: the faces run in parallel)
+    parallelFor(0, added.size(), threads, [&](std::size_t f) {
+      if (bad[loop_of[f]]) return;  // (read only here)
       const Tri& t = added[f];
       const Vec lo = V[t[0]].cwiseMin(V[t[1]]).cwiseMin(V[t[2]]), hi = V[t[0]].cwiseMax(V[t[1]]).cwiseMax(V[t[2]]);
-      surface.overlappingUntil(lo, hi, [&](int g) {
-        if (!crosses(P, t, T[g])) return true;
-        bad[loop_of[f]] = 1;
-        return false;
-      });
-    }
+      surface.overlappingUntil(lo, hi, [&](int g) { return !(crossing[f] = crosses(P, t, T[g])); });
+    });
+    for (std::size_t f = 0; f < added.size(); ++f)
+      if (crossing[f]) bad[loop_of[f]] = 1;
     std::vector<Box> added_boxes;
     added_boxes.reserve(added.size());
     for (std::size_t f = 0; f < added.size(); ++f)
@@ -2039,7 +2038,12 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
   // Short loops are filled first by the search over all their triangulations, whose choice is
   // the same on every run; those it fills badly are filled again within the 3D Delaunay
   // triangulation of their points (it avoids other faces better; see kCubicHoleFilling).
-  for (std::size_t l = 0; l < loops.size(); ++l) fillLoop(l, loops[l].size() > kCubicHoleFilling);
+  // (the full searches in parallel: each fills its own loop; the Delaunay searches on this thread)
+  parallelFor(0, loops.size(), threads, [&](std::size_t l) {
+    if (loops[l].size() <= kCubicHoleFilling) fillLoop(l, false);
+  });
+  for (std::size_t l = 0; l < loops.size(); ++l)
+    if (loops[l].size() > kCubicHoleFilling) fillLoop(l, true);
   std::vector<char> bad = badLoops();
   bool again = false;
   for (std::size_t l = 0; l < loops.size(); ++l)
