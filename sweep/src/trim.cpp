@@ -2172,6 +2172,18 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
     for (std::size_t v = 0; v < used.size(); ++v)
       if (used[v] >= 0) point_of[used[v]] = static_cast<int>(v);
     for (int v : trouble) at_mouth[point_of[v]] = 1;
+    // From the fourth round on, the mark spreads over round - 2 rings of the faces left out:
+    // mouths that keep failing next to the ones kept before (a few per round, each round
+    // redoing every mouth) are then kept together sooner.
+    for (int ring = 0; ring < round - 2; ++ring) {
+      std::vector<char> next = at_mouth;
+      for (std::size_t f = 0; f < A.faces.size(); ++f) {
+        const Tri& t = A.faces[f];
+        if ((buried[L.patch[f]] || crack[f]) && (at_mouth[t[0]] || at_mouth[t[1]] || at_mouth[t[2]]))
+          next[t[0]] = next[t[1]] = next[t[2]] = 1;
+      }
+      at_mouth.swap(next);
+    }
     std::set<int> kept_regions;
     for (std::size_t f = 0; f < A.faces.size(); ++f) {
       if (!(at_mouth[A.faces[f][0]] || at_mouth[A.faces[f][1]] || at_mouth[A.faces[f][2]])) continue;
