@@ -216,53 +216,65 @@ std::vector<std::pair<int, int>> crossingPairs(const std::vector<Vec>& V, double
 // The exact arrangement.
 
 // Exact points numbered by exact equality, found through a hash grid of their interval boxes.
-// A point is filed in the cell of its box's lower corner; a query looks in every cell its box
-// overlaps (nearly always one: the cells are far wider than the boxes) and compares exactly
-// (the interval filter first) with the points filed there whose boxes overlap its own. Equal
-// points have overlapping boxes, so none is missed. (A std::map of the points spent most of
-// its time following pointers: 2.2 s of bunny00's intersections, on one thread.)
+// A point is filed in every cell its box overlaps when it is added (nearly always one: the cells
+// are far wider than the boxes); a query looks in every cell its own box overlaps and compares
+// exactly (the interval filter first) with the points filed there whose boxes overlap its own.
+// Two equal points have boxes that share a point d (both contain the exact value), and the cell
+// of d lies in both ranges of cells (the cell of a coordinate is a monotone function of it), so
+// none is missed, even when a box has narrowed since its point was filed (exact evaluation) or
+// the exact value lies on a cell border. (A std::map of the points spent most of its time
+// following pointers: 2.2 s of bunny00's intersections, on one thread.)
 class PointIndex {
  public:
   PointIndex(const Eigen::Vector3d& origin, double cell) : origin_(origin), inv_(1.0 / cell) {}
   // The number of a filed point exactly equal to p (points[number]), or -1.
   int find(const EK::Point_3& p, const std::vector<EK::Point_3>& points) const {
     const CGAL::Bbox_3 b = p.bbox();
-    const std::array<std::int64_t, 3> lo = cellOf(b.xmin(), b.ymin(), b.zmin()), hi = cellOf(b.xmax(), b.ymax(), b.zmax());
-    for (std::int64_t x = lo[0]; x <= hi[0]; ++x)
-      for (std::int64_t y = lo[1]; y <= hi[1]; ++y)
-        for (std::int64_t z = lo[2]; z <= hi[2]; ++z) {
-          const auto it = head_.find(key({{x, y, z}}));
-          if (it == head_.end()) continue;
-          for (int id = it->second; id >= 0; id = next_[static_cast<std::size_t>(id)])
-            if (CGAL::do_overlap(b, points[static_cast<std::size_t>(id)].bbox()) && points[static_cast<std::size_t>(id)] == p)
-              return id;
-        }
-    return -1;
+    int found = -1;
+    forCells(b, [&](std::uint64_t key) {
+      const auto it = head_.find(key);
+      for (int n = it == head_.end() ? -1 : it->second; n >= 0 && found < 0; n = nodes_[static_cast<std::size_t>(n)].next) {
+        const auto& q = points[static_cast<std::size_t>(nodes_[static_cast<std::size_t>(n)].id)];
+        if (CGAL::do_overlap(b, q.bbox()) && q == p) found = nodes_[static_cast<std::size_t>(n)].id;
+      }
+      return found < 0;
+    });
+    return found;
   }
   // Files point p under number id.
   void add(const EK::Point_3& p, int id) {
-    if (next_.size() <= static_cast<std::size_t>(id)) next_.resize(static_cast<std::size_t>(id) + 1, -1);
-    const CGAL::Bbox_3 b = p.bbox();
-    const auto [it, added] = head_.emplace(key(cellOf(b.xmin(), b.ymin(), b.zmin())), id);
-    if (!added) next_[static_cast<std::size_t>(id)] = it->second, it->second = id;
+    forCells(p.bbox(), [&](std::uint64_t key) {
+      const auto [it, added] = head_.emplace(key, static_cast<int>(nodes_.size()));
+      nodes_.push_back({id, added ? -1 : it->second});
+      it->second = static_cast<int>(nodes_.size()) - 1;
+      return true;
+    });
   }
 
  private:
-  std::array<std::int64_t, 3> cellOf(double x, double y, double z) const {
-    auto c = [&](double v, int k) {
+  struct Node {
+    int id, next;  // a filed point, and the node filed before it in the same cell (-1: none)
+  };
+  // Calls visit(key) for the cells that box b overlaps, while it returns true. (Cells far
+  // apart may share a key: that only costs box tests.)
+  template <class Visit>
+  void forCells(const CGAL::Bbox_3& b, Visit&& visit) const {
+    auto cell = [&](double v, int k) {
       return static_cast<std::int64_t>(std::floor(std::clamp((v - origin_[k]) * inv_, -1e15, 1e15)));
     };
-    return {{c(x, 0), c(y, 1), c(z, 2)}};
-  }
-  // (cells far apart may share a key: they only cost box tests)
-  static std::uint64_t key(const std::array<std::int64_t, 3>& c) {
-    return (static_cast<std::uint64_t>(c[0]) & 0x1fffff) << 42 | (static_cast<std::uint64_t>(c[1]) & 0x1fffff) << 21 |
-           (static_cast<std::uint64_t>(c[2]) & 0x1fffff);
+    const std::int64_t x0 = cell(b.xmin(), 0), x1 = cell(b.xmax(), 0), y0 = cell(b.ymin(), 1), y1 = cell(b.ymax(), 1),
+                       z0 = cell(b.zmin(), 2), z1 = cell(b.zmax(), 2);
+    for (std::int64_t x = x0; x <= x1; ++x)
+      for (std::int64_t y = y0; y <= y1; ++y)
+        for (std::int64_t z = z0; z <= z1; ++z)
+          if (!visit((static_cast<std::uint64_t>(x) & 0x1fffff) << 42 | (static_cast<std::uint64_t>(y) & 0x1fffff) << 21 |
+                     (static_cast<std::uint64_t>(z) & 0x1fffff)))
+            return;
   }
   Eigen::Vector3d origin_;
   double inv_;
-  std::unordered_map<std::uint64_t, int> head_;  // per cell: its last filed point
-  std::vector<int> next_;                        // per point: the one filed before it in its cell
+  std::unordered_map<std::uint64_t, int> head_;  // per cell: its last node
+  std::vector<Node> nodes_;
 };
 
 struct Arrangement {
