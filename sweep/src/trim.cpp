@@ -880,7 +880,6 @@ struct Labels {
   std::vector<int> group;      // per patch: smallest patch among its overlapping copies
   std::size_t rays = 0;        // patches labelled by a ray of their own
   std::size_t retries = 0;
-  std::size_t disagreements = 0;  // checked patches whose ray disagreed with the propagation
 };
 
 // Patches whose rays check the labels propagated across edges (spread evenly over the patches).
@@ -1237,10 +1236,7 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
     const int r = find(static_cast<int>(p)), l = leader[r];
     if (bad_root[r]) continue;
     const int x_root = L.w_front[l] - off[l];
-    if (rayed[p] && std::array<int, 3>{L.w_front[p], L.jump[p], L.group[p]} != propagated(p, x_root)) {
-      bad_root[r] = 1;
-      ++L.disagreements;
-    }
+    if (rayed[p] && std::array<int, 3>{L.w_front[p], L.jump[p], L.group[p]} != propagated(p, x_root)) bad_root[r] = 1;
   }
   todo.clear();
   for (std::size_t p = 0; p < np; ++p) {
