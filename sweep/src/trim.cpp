@@ -598,9 +598,8 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   }
 
   // Crossing pairs and their exact intersections. Every point gets its number when it is made:
-  // points are identified by exact equality (the map's comparisons are exact only where the
-  // interval filter fails, that is for equal or nearly equal points), and cut points by their
-  // names first. The inexact points are evaluated exactly first: the parallel tests of the pairs
+  // points are identified by exact equality (PointIndex: exact comparisons only between points
+  // whose interval boxes overlap), and cut points by their names first. The inexact points are evaluated exactly first: the parallel tests of the pairs
   // then leave every point's interval as it was, and the doubles of the points made from them do
   // not depend on the tests' timing (see Arrangement::approx). `pad` bounds how far the inexact
   // points' doubles are from them.
@@ -903,23 +902,21 @@ struct Step {
 // faces in one half-plane (an exact tie) have no cell between them: the edge gives only markers.
 std::vector<Step> crossEdges(const Arrangement& A, const std::vector<int>& patch,
                              const std::vector<std::pair<std::uint64_t, int>>& sides, int threads) {
-  std::vector<std::size_t> edges;  // the first side of each edge that counts, and the end
+  // The side ranges [i, j) of the edges that count, and where each edge's steps go: edge e
+  // has one step per face, at steps[first[e], first[e + 1]).
+  std::vector<std::pair<std::size_t, std::size_t>> edges;
+  std::vector<std::size_t> first{0};
   for (std::size_t i = 0, j = 0; i < sides.size(); i = j) {
     while (j < sides.size() && sides[j].first == sides[i].first) ++j;
-    if (!(j - i == 2 && (sides[i].second > 0) != (sides[i + 1].second > 0))) edges.push_back(i);
+    if (j - i == 2 && (sides[i].second > 0) != (sides[i + 1].second > 0)) continue;
+    edges.emplace_back(i, j);
+    first.push_back(first.back() + (j - i));
   }
-  // Edge e's steps go to steps[first[e], first[e] + its face count).
-  std::vector<std::size_t> first(edges.size() + 1, 0);
-  auto end = [&](std::size_t e) {
-    std::size_t j = edges[e] + 1;
-    while (j < sides.size() && sides[j].first == sides[edges[e]].first) ++j;
-    return j;
-  };
-  for (std::size_t e = 0; e < edges.size(); ++e) first[e + 1] = first[e] + (end(e) - edges[e]);
   std::vector<Step> steps(first.back());
   const auto& P = A.points;
   parallelFor(0, edges.size(), threads, [&](std::size_t e) {
-    const std::size_t i = edges[e], j = end(e), o = first[e];
+    const auto [i, j] = edges[e];
+    const std::size_t o = first[e];
     const int a = static_cast<int>(sides[i].first >> 32), b = static_cast<int>(sides[i].first & 0xffffffffu);
     struct Around {
       int face, third, half;
@@ -1915,10 +1912,10 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
 // the polygon (cubic in its size: about 3e5 candidate triangles at this size), which chooses the
 // same filling on every run. CGAL's faster search within a 3D Delaunay triangulation of the
 // points, used for longer loops and for the short ones the first filling leaves crossing
-// something, does not always fill a loop the same way: called twice on the same loops in one
-// process, it filled 51 of 5,208 mouth loops of the CGAL sphere screw differently (8 and 9
-// points; the cause inside CGAL was not traced), and envelopes changed from run to run on two
-// threads.
+// something, does not always fill a loop the same way: its choice depends on memory addresses
+// (one 8-point loop of the armadillo screw, filled 200 times in one process, came out two ways;
+// its 3D Delaunay triangulation was the same each time; the cause inside CGAL was not traced).
+// So the envelopes that need it can differ from run to run (see SweepOptions::threads).
 constexpr std::size_t kCubicHoleFilling = 128;
 
 long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>& trouble, int threads) {
