@@ -10,6 +10,11 @@
 #include <limits>
 #include <vector>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+#include <tbb/task_arena.h>
+
 namespace steady::sweep::detail {
 
 // A bounding-volume hierarchy of the boxes of triangles: median splits of the box centres along
@@ -24,21 +29,38 @@ class FaceTree {
   using Faces = std::vector<std::array<int, 3>>;
 
   // The tree keeps references to `vertices` and `faces`: they must outlive it, unchanged.
-  void build(const std::vector<Vec>& vertices, const Faces& faces) {
+  // `threads` as SweepOptions::threads (1: on the calling thread alone; 0: every hardware
+  // thread). The tree is the same for any number of threads: each node's place in the node
+  // array follows from the sizes of the ranges alone (pre-order), and subtrees over disjoint
+  // ranges are built concurrently.
+  void build(const std::vector<Vec>& vertices, const Faces& faces, int threads = 1) {
     V_ = &vertices;
     F_ = &faces;
     const std::size_t nf = faces.size();
     order_.resize(nf);
-    for (std::size_t f = 0; f < nf; ++f) order_[f] = static_cast<int>(f);
     // The box centres (doubled, in float) while building.
     std::vector<Vec3f> centre(nf);
-    for (std::size_t f = 0; f < nf; ++f) {
-      const Box b = faceBox(static_cast<int>(f));
-      centre[f] = (b.lo + b.hi).cast<float>();
-    }
+    auto prepare = [&](std::size_t begin, std::size_t end) {
+      for (std::size_t f = begin; f < end; ++f) {
+        order_[f] = static_cast<int>(f);
+        const Box b = faceBox(static_cast<int>(f));
+        centre[f] = (b.lo + b.hi).cast<float>();
+      }
+    };
     nodes_.clear();
-    nodes_.reserve(nf);  // at most nf nodes (leaves hold 2 to 4 faces); pages never touched stay free
-    if (nf > 0) split(0, static_cast<int>(nf), centre);
+    if (nf == 0) return;
+    nodes_.resize(nodeCount(static_cast<int>(nf)));
+    if (threads == 1 || nf < kParallelBuild) {
+      prepare(0, nf);
+      split(0, 0, static_cast<int>(nf), centre, false);
+      return;
+    }
+    tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf),
+                        [&](const tbb::blocked_range<std::size_t>& r) { prepare(r.begin(), r.end()); });
+      split(0, 0, static_cast<int>(nf), centre, true);
+    });
   }
 
   // Calls visit(f) for every face whose box meets the box [lo, hi].
@@ -103,7 +125,7 @@ class FaceTree {
   struct Node {
     Vec3f lo, hi;
     int left = -1, right = -1;  // children (inner node) or -1 (leaf)
-    int first = 0, count = 0;   // leaf: order_[first, first + count)
+    int first = 0, count = 0;   // its faces: order_[first, first + count)
   };
 
   // The float at or below (above) each coordinate.
@@ -144,11 +166,31 @@ class FaceTree {
     }
   }
 
-  // Builds the subtree of order_[first, last); node boxes come from the faces at the leaves and
-  // from the children above them.
-  int split(int first, int last, const std::vector<Vec3f>& centre) {
-    const int id = static_cast<int>(nodes_.size());
-    nodes_.emplace_back();
+  // Ranges of at least this many faces build their two halves concurrently (when allowed).
+  static constexpr std::size_t kParallelBuild = 1 << 15;
+
+  // The numbers of nodes of the subtrees over m and m + 1 faces (m >= 1; a leaf holds up to 4,
+  // a larger range splits into n / 2 and n - n / 2): the halves of both lie in {m/2, m/2 + 1},
+  // so one recursion of depth log m gives both.
+  static std::array<std::size_t, 2> nodeCounts(std::size_t m) {
+    if (m + 1 <= 4) return {{1, 1}};
+    const std::size_t h = m / 2;
+    const std::array<std::size_t, 2> q = nodeCounts(h);
+    std::array<std::size_t, 2> r{};
+    for (std::size_t i = 0; i < 2; ++i) {
+      const std::size_t n = m + i;
+      r[i] = n <= 4 ? 1 : 1 + q[n / 2 - h] + q[n - n / 2 - h];
+    }
+    return r;
+  }
+  static std::size_t nodeCount(int n) { return nodeCounts(static_cast<std::size_t>(n))[0]; }
+
+  // Builds the subtree of order_[first, last) at node id (its left subtree follows it, then its
+  // right one); node boxes come from the faces at the leaves and from the children above them.
+  void split(std::size_t id, int first, int last, const std::vector<Vec3f>& centre, bool parallel) {
+    Node& node = nodes_[id];
+    node.first = first;
+    node.count = last - first;
     if (last - first <= 4) {
       Vec lo = Vec::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
       for (int i = first; i < last; ++i) {
@@ -156,11 +198,9 @@ class FaceTree {
         lo = lo.cwiseMin(b.lo);
         hi = hi.cwiseMax(b.hi);
       }
-      nodes_[id].lo = down(lo);
-      nodes_[id].hi = up(hi);
-      nodes_[id].first = first;
-      nodes_[id].count = last - first;
-      return id;
+      node.lo = down(lo);
+      node.hi = up(hi);
+      return;
     }
     Vec3f clo = Vec3f::Constant(std::numeric_limits<float>::infinity()), chi = -clo;
     for (int i = first; i < last; ++i) {
@@ -172,13 +212,17 @@ class FaceTree {
     const int mid = first + (last - first) / 2;
     std::nth_element(order_.begin() + first, order_.begin() + mid, order_.begin() + last,
                      [&](int a, int b) { return centre[a][axis] < centre[b][axis]; });
-    const int l = split(first, mid, centre);
-    const int r = split(mid, last, centre);
-    nodes_[id].left = l;
-    nodes_[id].right = r;
-    nodes_[id].lo = nodes_[l].lo.cwiseMin(nodes_[r].lo);
-    nodes_[id].hi = nodes_[l].hi.cwiseMax(nodes_[r].hi);
-    return id;
+    const std::size_t l = id + 1, r = id + 1 + nodeCount(mid - first);
+    if (parallel && static_cast<std::size_t>(last - first) >= kParallelBuild) {
+      tbb::parallel_invoke([&] { split(l, first, mid, centre, true); }, [&] { split(r, mid, last, centre, true); });
+    } else {
+      split(l, first, mid, centre, parallel);
+      split(r, mid, last, centre, parallel);
+    }
+    node.left = static_cast<int>(l);
+    node.right = static_cast<int>(r);
+    node.lo = nodes_[l].lo.cwiseMin(nodes_[r].lo);
+    node.hi = nodes_[l].hi.cwiseMax(nodes_[r].hi);
   }
 
   const std::vector<Vec>* V_ = nullptr;

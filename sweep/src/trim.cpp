@@ -189,7 +189,7 @@ template <class Keep>
 std::vector<std::pair<int, int>> crossingPairs(const std::vector<Vec>& V, double pad, const std::vector<Tri>& T,
                                                int threads, Keep&& keep) {
   detail::FaceTree tree;
-  tree.build(V, T);
+  tree.build(V, T, threads);
   const Vec widen = Vec::Constant(2 * pad);
   constexpr std::size_t kBlock = 1 << 14;
   std::vector<std::pair<int, int>> pairs;
@@ -1077,7 +1077,7 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
   const double size = (hi - lo).norm() + 1.0;
   const double pad = 1e-9 * size;
   detail::FaceTree tree;
-  tree.build(approx, T);
+  tree.build(approx, T, options.threads);
 
   // Rays: origin inside the representative face, end outside the scene's box.
   struct Ray {
@@ -1715,7 +1715,7 @@ void computeCheck(MeshCheck& c, const std::vector<Vec>& V, const std::vector<Tri
     // Pairs of faces whose boxes meet (a box hierarchy; each pair from its lower face), tested
     // in parallel, counted per face.
     detail::FaceTree tree;
-    tree.build(V, T);
+    tree.build(V, T, threads);
     std::vector<long> crossing(T.size(), 0);
     parallelFor(0, T.size(), threads, [&](std::size_t f) {
       if (flat[f]) return;
@@ -1879,7 +1879,7 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
   // The walls in a box hierarchy; each probing face, in parallel, marks the probes that meet a
   // facing wall (bit k for probe k), then tests their ends until one is inside.
   detail::FaceTree tree;
-  tree.build(A.approx, walls);
+  tree.build(A.approx, walls, threads);
   parallelFor(0, probes.size(), threads, [&](std::size_t i) {
     const std::size_t f = static_cast<std::size_t>(probes[i].first);
     unsigned met = 0;
@@ -2006,7 +2006,7 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
   P.reserve(V.size());
   for (const Vec& x : V) P.emplace_back(x.x(), x.y(), x.z());
   detail::FaceTree surface;
-  surface.build(V, T);
+  surface.build(V, T, threads);
   std::vector<Tri> added;
   std::vector<int> loop_of;  // per added face: its loop
   // The loops that cannot be filled as they are: no triangulation, or a filling face that

@@ -1,0 +1,80 @@
+// The box hierarchy shared by the inside test, the labels and the checks (sweep/src/face_tree.hpp,
+// internal): its box queries against brute force, and the same tree whether it is built on one
+// thread or several (the parallel build places every node by the sizes of the ranges alone).
+#include "face_tree.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <vector>
+
+namespace {
+
+using steady::sweep::detail::FaceTree;
+using Vec = Eigen::Vector3d;
+
+struct Soup {
+  std::vector<Vec> V;
+  FaceTree::Faces F;
+};
+
+// n small random triangles in the unit cube, some of them needles and some repeated.
+Soup randomSoup(std::size_t n, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0), d(-0.01, 0.01);
+  Soup s;
+  for (std::size_t f = 0; f < n; ++f) {
+    const Vec c(u(rng), u(rng), u(rng));
+    const int base = static_cast<int>(s.V.size());
+    s.V.push_back(c);
+    s.V.push_back(c + Vec(d(rng), d(rng), d(rng)));
+    s.V.push_back(f % 7 == 0 ? Vec(c + 1e-9 * Vec(1, 1, 1)) : Vec(c + Vec(d(rng), d(rng), d(rng))));
+    s.F.push_back({{base, base + 1, base + 2}});
+    if (f % 101 == 0) s.F.push_back({{base, base + 1, base + 2}});
+  }
+  return s;
+}
+
+std::vector<int> boxQuery(const FaceTree& tree, const Vec& lo, const Vec& hi) {
+  std::vector<int> out;
+  tree.overlapping(lo, hi, [&](int f) { out.push_back(f); });
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// Sizes across the serial/parallel threshold and leaf sizes 1 to 4 at the bottom.
+TEST(FaceTree, BoxQueriesMatchBruteForceOnAnyNumberOfThreads) {
+  for (const std::size_t n : {1u, 5u, 9u, 1000u, 70001u}) {
+    const Soup s = randomSoup(n, 7 + n);
+    FaceTree one, two, all;
+    one.build(s.V, s.F, 1);
+    two.build(s.V, s.F, 2);
+    all.build(s.V, s.F, 0);
+    std::mt19937_64 rng(99);
+    std::uniform_real_distribution<double> u(-0.05, 1.05), w(0.0, 0.08);
+    for (int q = 0; q < 200; ++q) {
+      const Vec lo(u(rng), u(rng), u(rng));
+      const Vec hi = lo + Vec(w(rng), w(rng), w(rng));
+      std::vector<int> expect;
+      for (std::size_t f = 0; f < s.F.size(); ++f) {
+        const Vec& a = s.V[s.F[f][0]];
+        const Vec& b = s.V[s.F[f][1]];
+        const Vec& c = s.V[s.F[f][2]];
+        const Vec flo = a.cwiseMin(b).cwiseMin(c), fhi = a.cwiseMax(b).cwiseMax(c);
+        if (!((flo.array() > hi.array()).any() || (lo.array() > fhi.array()).any())) expect.push_back(static_cast<int>(f));
+      }
+      ASSERT_EQ(boxQuery(one, lo, hi), expect) << n << " faces, query " << q;
+      ASSERT_EQ(boxQuery(two, lo, hi), expect) << n << " faces, query " << q << ", 2 threads";
+      ASSERT_EQ(boxQuery(all, lo, hi), expect) << n << " faces, query " << q << ", all threads";
+    }
+    // The same tree: the faces come out of a query that meets everything in the same order.
+    std::vector<int> a, b;
+    one.overlapping(Vec::Constant(-1), Vec::Constant(2), [&](int f) { a.push_back(f); });
+    two.overlapping(Vec::Constant(-1), Vec::Constant(2), [&](int f) { b.push_back(f); });
+    EXPECT_EQ(a, b) << n << " faces";
+    EXPECT_EQ(a.size(), s.F.size());
+  }
+}
+
+}  // namespace
