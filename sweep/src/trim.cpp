@@ -1919,11 +1919,17 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
 // Loops of up to this many points are filled first by CGAL's search over all triangulations of
 // the polygon (cubic in its size: about 3e5 candidate triangles at this size), which chooses the
 // same filling on every run. CGAL's faster search within a 3D Delaunay triangulation of the
-// points, used for longer loops and for the short ones the first filling leaves crossing
-// something, does not always fill a loop the same way: its choice depends on memory addresses
-// (one 8-point loop of the armadillo screw, filled 200 times in one process, came out two ways;
-// its 3D Delaunay triangulation was the same each time; the cause inside CGAL was not traced).
-// So the envelopes that need it can differ from run to run (see SweepOptions::threads).
+// points, used for the short loops the first filling leaves crossing something, does not
+// always fill a loop the same way: its choice depends on memory addresses (one 8-point loop of
+// the armadillo screw, filled 200 times in one process, came out two ways; its 3D Delaunay
+// triangulation was the same each time; the cause inside CGAL was not traced). So the
+// envelopes that need it can differ from run to run (see SweepOptions::threads).
+// Longer loops are not filled: they fail at once, so their buried patches and crack regions are
+// kept. Filled within the Delaunay triangulation as well, they failed in every case measured
+// (first rounds of the five benchmark samples' screws at 1e-3 and 1e-2 eps: 60 of 60 such
+// loops left a face crossing the surface, as did all but one of the 102 loops of 65 to 128
+// points), and their searches took up to 3.4 s on one thread (bunny00's screw at 1e-2: 40
+// loops of up to 458 points; knot1's at 1e-3: 3 loops, 1.75 s).
 constexpr std::size_t kCubicHoleFilling = 128;
 
 long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>& trouble, int threads) {
@@ -2050,13 +2056,12 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
   };
   // Short loops are filled first by the search over all their triangulations, whose choice is
   // the same on every run; those it fills badly are filled again within the 3D Delaunay
-  // triangulation of their points (it avoids other faces better; see kCubicHoleFilling).
+  // triangulation of their points (it avoids other faces better). Longer loops stay unfilled,
+  // hence bad (see kCubicHoleFilling).
   // (the full searches in parallel: each fills its own loop; the Delaunay searches on this thread)
   parallelFor(0, loops.size(), threads, [&](std::size_t l) {
     if (loops[l].size() <= kCubicHoleFilling) fillLoop(l, false);
   });
-  for (std::size_t l = 0; l < loops.size(); ++l)
-    if (loops[l].size() > kCubicHoleFilling) fillLoop(l, true);
   std::vector<char> bad = badLoops();
   bool again = false;
   for (std::size_t l = 0; l < loops.size(); ++l)
