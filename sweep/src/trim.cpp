@@ -1537,8 +1537,9 @@ constexpr double kPinchStep = 1e-3;
 // copy whose fan opens the widest alone, then the others alone. The step is kPinchStep
 // times the ring distance and at most kPinchStep ε; a group whose moved faces would cross any
 // face (exact test) halves its step, 20 times per direction, and is put back when no direction
-// works. Returns the number of vertices that still share a position.
-std::size_t separatePinches(std::vector<Vec>& V, const std::vector<Tri>& T, double eps) {
+// works. Returns the number of vertices that still share a position. The crossing tests of a
+// round run on `threads` threads (as SweepOptions::threads); the result does not depend on them.
+std::size_t separatePinches(std::vector<Vec>& V, const std::vector<Tri>& T, double eps, int threads) {
   std::map<std::array<double, 3>, std::vector<int>> at;
   for (std::size_t v = 0; v < V.size(); ++v) at[{{V[v].x(), V[v].y(), V[v].z()}}].push_back(static_cast<int>(v));
   std::vector<std::vector<int>> groups;
@@ -1596,7 +1597,7 @@ std::size_t separatePinches(std::vector<Vec>& V, const std::vector<Tri>& T, doub
       for (const Vec& d : dir[v]) reach = std::max(reach, d.norm());
   reach = reach * (1 + 1e-9) + 1e-300;
   detail::FaceTree tree;
-  tree.build(V, T);
+  tree.build(V, T, threads);
   std::vector<IPoint> P;
   P.reserve(V.size());
   for (const Vec& x : V) P.emplace_back(x.x(), x.y(), x.z());
@@ -1619,16 +1620,22 @@ std::size_t separatePinches(std::vector<Vec>& V, const std::vector<Tri>& T, doub
       for (int v : T[f])
         if (group_of[v] >= 0) bad[group_of[v]] = 1;
     };
-    for (const int f : moved) {
-      moved_face[f] = 0;
+    // (the moved faces in parallel, each listing the faces it crosses; blamed in order after)
+    std::vector<std::vector<int>> crossed(moved.size());
+    parallelFor(0, moved.size(), threads, [&](std::size_t i) {
+      const int f = moved[i];
       const Tri& t = T[f];
       const Vec lo = V[t[0]].cwiseMin(V[t[1]]).cwiseMin(V[t[2]]) - Vec::Constant(reach);
       const Vec hi = V[t[0]].cwiseMax(V[t[1]]).cwiseMax(V[t[2]]) + Vec::Constant(reach);
       tree.overlapping(lo, hi, [&](int g) {
-        if (g == f || !crosses(P, t, T[g])) return;
-        blame(static_cast<std::size_t>(f));
-        blame(static_cast<std::size_t>(g));
+        if (g != f && crosses(P, t, T[g])) crossed[i].push_back(g);
       });
+    });
+    for (std::size_t i = 0; i < moved.size(); ++i) {
+      moved_face[moved[i]] = 0;
+      if (crossed[i].empty()) continue;
+      blame(static_cast<std::size_t>(moved[i]));
+      for (const int g : crossed[i]) blame(static_cast<std::size_t>(g));
     }
     std::vector<int> again;
     for (int g : todo) {
@@ -2239,7 +2246,7 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
       }
     env.vertices.swap(kept);
     env.pinched_vertices_split = copies;
-    env.pinches_touching = separatePinches(env.vertices, env.triangles, eps);
+    env.pinches_touching = separatePinches(env.vertices, env.triangles, eps, options.threads);
   }
   env.timings.output = seconds(t0);
 
