@@ -655,20 +655,37 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
     return it->second;
   };
   std::vector<std::vector<Constraint>> cons(T.size());
-  std::size_t done = 0;
-  for (const auto& [i, j] : pairs) {
-    if (options.progress && ++done % 4096 == 0)
-      options.progress({"intersect", 0.5 * static_cast<double>(done) / static_cast<double>(pairs.size())});
+  // How each pair crosses, found by predicates alone in parallel: from a shared vertex to a cut
+  // (kind 1, vertex in cut[1].a), between two cuts (kind 2), or otherwise (kind 0: the exact
+  // intersection below). The cut points are then named and numbered in pair order on this
+  // thread, so the numbering is the same for any number of threads.
+  struct Crossing {
+    Cut cut[2];
+    int kind = 0;
+  };
+  std::vector<Crossing> crossing(pairs.size());
+  parallelFor(0, pairs.size(), options.threads, [&](std::size_t k) {
+    const auto [i, j] = pairs[k];
     const bool plain_pair = plain(T[i]) && plain(T[j]);
     int sv[3];
     const int n = shared(T[i], T[j], sv);
-    Cut cut[2];
+    Crossing& x = crossing[k];
+    if (n == 1 && (plain_pair ? sharedVertexCrossing(ip, T, i, j, sv[0], x.cut[0])
+                              : sharedVertexCrossing(ep, T, i, j, sv[0], x.cut[0])))
+      x.kind = 1, x.cut[1].a = sv[0];
+    else if (n == 0 && (plain_pair ? generalCrossing(ip, T, i, j, x.cut) : generalCrossing(ep, T, i, j, x.cut)))
+      x.kind = 2;
+  });
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    const auto [i, j] = pairs[k];
+    if (options.progress && (k + 1) % 4096 == 0)
+      options.progress({"intersect", 0.5 * static_cast<double>(k + 1) / static_cast<double>(pairs.size())});
+    const Crossing& cr = crossing[k];
     Constraint c{-1, -1};
-    if (n == 1 && (plain_pair ? sharedVertexCrossing(ip, T, i, j, sv[0], cut[0])
-                              : sharedVertexCrossing(ep, T, i, j, sv[0], cut[0])))
-      c = {sv[0], cutPoint(cut[0])};
-    else if (n == 0 && (plain_pair ? generalCrossing(ip, T, i, j, cut) : generalCrossing(ep, T, i, j, cut)))
-      c = {cutPoint(cut[0]), cutPoint(cut[1])};
+    if (cr.kind == 1)
+      c = {cr.cut[1].a, cutPoint(cr.cut[0])};
+    else if (cr.kind == 2)
+      c = {cutPoint(cr.cut[0]), cutPoint(cr.cut[1])};
     if (c.a >= 0) {  // (the planes cross in a line: the pair is not coplanar)
       cons[i].push_back({c.a, c.b, j});
       cons[j].push_back({c.a, c.b, i});
@@ -681,6 +698,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
     cons[j].insert(cons[j].end(), cons[i].begin() + static_cast<std::ptrdiff_t>(before_i), cons[i].end());
   }
   cut_points = {};
+  crossing = {};
   out.crossing_pairs = pairs.size();
 
   // Re-triangulate every crossed triangle. The points of the constraints carry their numbers
