@@ -1980,8 +1980,9 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
     return out;
   };
   // Unmatched directed edges a -> b (as the faces run), by their start.
+  const std::vector<EdgeUse> surface_use = edgeUses({&T});
   std::unordered_multimap<int, int> from;
-  for (const EdgeUse& e : edgeUses({&T})) {
+  for (const EdgeUse& e : surface_use) {
     const std::uint64_t key = e.key;
     const int n = e.net;
     if (n == 0) continue;
@@ -2044,8 +2045,10 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
   // leaves an edge with other than two faces (a diagonal that repeats an edge of the surface
   // would make it non-manifold), or that crosses the rest of the surface or another filling
   // face (least-weight filling sees only its loop; exact predicates on the double coordinates,
-  // as the output check uses).
-  auto badLoops = [&]() {
+  // as the output check uses). A loop's crossings with the surface are found once per filling:
+  // `crosses_surface` keeps them for the loops not filled again (`refilled` false).
+  std::vector<char> crosses_surface(loops.size(), 0);
+  auto badLoops = [&](const std::vector<char>& refilled) {
     std::vector<char> bad(loops.size(), 0);
     added.clear();
     loop_of.clear();
@@ -2053,23 +2056,32 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
       if (fill[l].empty()) bad[l] = 1;
       for (const Tri& t : fill[l]) added.push_back(t), loop_of.push_back(static_cast<int>(l));
     }
-    const std::vector<EdgeUse> use = edgeUses({&T, &added});
+    // Edge uses: the surface's (sorted once) plus the filling faces'.
+    const std::vector<EdgeUse> added_use = edgeUses({&added});
+    auto useOf = [](const std::vector<EdgeUse>& use, std::uint64_t key) {
+      const auto u = std::lower_bound(use.begin(), use.end(), key, [](const EdgeUse& e, std::uint64_t x) { return e.key < x; });
+      return u != use.end() && u->key == key ? *u : EdgeUse{key, 0, 0};
+    };
     for (std::size_t f = 0; f < added.size(); ++f)
       for (int k = 0; k < 3; ++k) {
         const std::uint64_t key = edgeKey(added[f][k], added[f][(k + 1) % 3]);
-        const auto u = std::lower_bound(use.begin(), use.end(), key,
-                                        [](const EdgeUse& e, std::uint64_t x) { return e.key < x; });
-        if (u->faces != 2 || u->net != 0) bad[loop_of[f]] = 1;
+        const EdgeUse a = useOf(surface_use, key), b = useOf(added_use, key);
+        if (a.faces + b.faces != 2 || a.net + b.net != 0) bad[loop_of[f]] = 1;
       }
     std::vector<char> crossing(added.size(), 0);  // (per face: the faces run in parallel)
     parallelFor(0, added.size(), threads, [&](std::size_t f) {
-      if (bad[loop_of[f]]) return;  // (read only here)
+      const int l = loop_of[f];
+      if (bad[l] || !refilled[static_cast<std::size_t>(l)]) return;  // (read only here)
       const Tri& t = added[f];
       const Vec lo = V[t[0]].cwiseMin(V[t[1]]).cwiseMin(V[t[2]]), hi = V[t[0]].cwiseMax(V[t[1]]).cwiseMax(V[t[2]]);
       surface.overlappingUntil(lo, hi, [&](int g) { return !(crossing[f] = crosses(P, t, T[g])); });
     });
+    for (std::size_t l = 0; l < loops.size(); ++l)
+      if (refilled[l]) crosses_surface[l] = 0;
     for (std::size_t f = 0; f < added.size(); ++f)
-      if (crossing[f]) bad[loop_of[f]] = 1;
+      if (crossing[f]) crosses_surface[static_cast<std::size_t>(loop_of[f])] = 1;
+    for (std::size_t l = 0; l < loops.size(); ++l)
+      if (crosses_surface[l]) bad[l] = 1;
     std::vector<Box> added_boxes;
     added_boxes.reserve(added.size());
     for (std::size_t f = 0; f < added.size(); ++f)
@@ -2087,11 +2099,14 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
   parallelFor(0, loops.size(), threads, [&](std::size_t l) {
     if (loops[l].size() <= kCubicHoleFilling) fillLoop(l, false);
   });
-  std::vector<char> bad = badLoops();
+  std::vector<char> refilled(loops.size(), 1);
+  std::vector<char> bad = badLoops(refilled);
   bool again = false;
-  for (std::size_t l = 0; l < loops.size(); ++l)
-    if (bad[l] && loops[l].size() >= 3 && loops[l].size() <= kCubicHoleFilling) fillLoop(l, true), again = true;
-  if (again) bad = badLoops();
+  for (std::size_t l = 0; l < loops.size(); ++l) {
+    refilled[l] = bad[l] && loops[l].size() >= 3 && loops[l].size() <= kCubicHoleFilling;
+    if (refilled[l]) fillLoop(l, true), again = true;
+  }
+  if (again) bad = badLoops(refilled);
   // Every loop that still cannot be filled is reported at once.
   for (std::size_t l = 0; l < loops.size(); ++l)
     if (bad[l]) fail(loops[l]);
