@@ -1952,8 +1952,8 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
 // Longer loops are not filled: they fail at once, so their buried patches and crack regions are
 // kept. Filled within the Delaunay triangulation as well, they failed in every case measured
 // (first rounds of the five benchmark samples' screws at 1e-3 and 1e-2 eps: 60 of 60 such
-// loops left a face crossing the surface, as did all but one of the 102 loops of 65 to 128
-// points), and their searches took up to 3.4 s on one thread (bunny00's screw at 1e-2: 40
+// loops had a face crossing the surface or another filling, or repeating an edge, as did all
+// but one of the 102 loops of 65 to 128 points), and their searches took up to 3.4 s on one thread (bunny00's screw at 1e-2: 40
 // loops of up to 458 points; knot1's at 1e-3: 3 loops, 1.75 s).
 constexpr std::size_t kCubicHoleFilling = 128;
 
