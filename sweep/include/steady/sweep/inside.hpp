@@ -32,10 +32,12 @@
 /// surface: not seen in practice since such points are within δ and already decided).
 ///
 /// Broad phase. A bounding-volume hierarchy of the body faces (body coordinates) is built once.
-/// The trajectory is bounded over a time interval of half width r about c by the ball of
-/// radius `|v(z(c))| r (e^(rμ) - 1) / (rμ)` about z(c) (μ ≥ |M|₂; the derivative bound of
-/// span_roots.hpp), mapped to body coordinates; intervals whose ball meets many face boxes are
-/// halved, faces whose box the ball misses (inflated by the tolerance) are never solved.
+/// Over a time interval of half width r about c the trajectory stays within
+/// `r²/2 μ e^(rμ) |v(z(c))|` of its chord (μ ≥ |M|₂; linear interpolation error, as for the
+/// sweep's strips); intervals with many face boxes near the chord's box are halved, and only
+/// the faces within that distance of the chord (plus the tolerance) are solved. (The ball
+/// about z(c) that bounded the whole interval before sent 14 times more faces to the root
+/// solver for points near a swept surface.)
 ///
 /// Tolerance (δ, world units). A point is reported inside when, at the reported time, it is
 /// inside the posed body or within `δ + η` of its surface, where η is the distance the surface
