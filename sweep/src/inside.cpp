@@ -395,7 +395,12 @@ struct SweptVolume::Impl {
     // involved.
     const double far = reach + 1e-9 * (reach + std::max(za.z.norm(), zb.z.norm()) + sd.w_max);
     for (const int f : cand) {
-      if (segmentTriangleDistance(za.z, zb.z, sd.W[F[f][0]], sd.W[F[f][1]], sd.W[F[f][2]]) > far) continue;
+      // (first the distance to the face's plane, a lower bound: most faces are pruned by it)
+      const Vec &w0 = sd.W[F[f][0]], &w1 = sd.W[F[f][1]], &w2 = sd.W[F[f][2]];
+      const double plane_far = far * sd.m[f].norm();
+      const double dpa = sd.m[f].dot(za.z - w0), dpb = sd.m[f].dot(zb.z - w0);
+      if ((dpa > plane_far && dpb > plane_far) || (dpa < -plane_far && dpb < -plane_far)) continue;
+      if (segmentTriangleDistance(za.z, zb.z, w0, w1, w2) > far) continue;
       roots.clear();
       sd.roots.pointPlane(x, sd.m[f], sd.h[f], -std::min(b, hit.tau), -a, roots);
       // Roots come in increasing s, i.e. decreasing tau: check the earliest times first.
