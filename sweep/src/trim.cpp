@@ -656,12 +656,13 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   };
   std::vector<std::vector<Constraint>> cons(T.size());
   // How each pair crosses, found by predicates alone in parallel: from a shared vertex to a cut
-  // (kind 1, vertex in cut[1].a), between two cuts (kind 2), or otherwise (kind 0: the exact
-  // intersection below). The cut points are then named and numbered in pair order on this
-  // thread, so the numbering is the same for any number of threads.
+  // (kind 1), between two cuts (kind 2), or otherwise (kind 0: the exact intersection below).
+  // The cut points are then named and numbered in pair order on this thread, so the numbering
+  // is the same for any number of threads.
   struct Crossing {
     Cut cut[2];
     int kind = 0;
+    int vertex = -1;  // kind 1: the shared vertex
   };
   std::vector<Crossing> crossing(pairs.size());
   parallelFor(0, pairs.size(), options.threads, [&](std::size_t k) {
@@ -672,7 +673,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
     Crossing& x = crossing[k];
     if (n == 1 && (plain_pair ? sharedVertexCrossing(ip, T, i, j, sv[0], x.cut[0])
                               : sharedVertexCrossing(ep, T, i, j, sv[0], x.cut[0])))
-      x.kind = 1, x.cut[1].a = sv[0];
+      x.kind = 1, x.vertex = sv[0];
     else if (n == 0 && (plain_pair ? generalCrossing(ip, T, i, j, x.cut) : generalCrossing(ep, T, i, j, x.cut)))
       x.kind = 2;
   });
@@ -683,7 +684,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
     const Crossing& cr = crossing[k];
     Constraint c{-1, -1};
     if (cr.kind == 1)
-      c = {cr.cut[1].a, cutPoint(cr.cut[0])};
+      c = {cr.vertex, cutPoint(cr.cut[0])};
     else if (cr.kind == 2)
       c = {cutPoint(cr.cut[0]), cutPoint(cr.cut[1])};
     if (c.a >= 0) {  // (the planes cross in a line: the pair is not coplanar)
@@ -1953,8 +1954,9 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
 // kept. Filled within the Delaunay triangulation as well, they failed in every case measured
 // (first rounds of the five benchmark samples' screws at 1e-3 and 1e-2 eps: 60 of 60 such
 // loops had a face crossing the surface or another filling, or repeating an edge, as did all
-// but one of the 102 loops of 65 to 128 points), and their searches took up to 3.4 s on one thread (bunny00's screw at 1e-2: 40
-// loops of up to 458 points; knot1's at 1e-3: 3 loops, 1.75 s).
+// but one of the 102 loops of 65 to 128 points), and their searches took up to 3.4 s on one
+// thread (bunny00's screw at 1e-2: 40 loops of up to 458 points; knot1's at 1e-3: 3 loops,
+// 1.75 s).
 constexpr std::size_t kCubicHoleFilling = 128;
 
 long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>& trouble, int threads) {
@@ -2046,9 +2048,10 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
   // would make it non-manifold), or that crosses the rest of the surface or another filling
   // face (least-weight filling sees only its loop; exact predicates on the double coordinates,
   // as the output check uses). A loop's crossings with the surface are found once per filling:
-  // `crosses_surface` keeps them for the loops not filled again (`refilled` false).
+  // `fresh` flags the loops filled since the last check, and `crosses_surface` keeps the
+  // others' results.
   std::vector<char> crosses_surface(loops.size(), 0);
-  auto badLoops = [&](const std::vector<char>& refilled) {
+  auto badLoops = [&](const std::vector<char>& fresh) {
     std::vector<char> bad(loops.size(), 0);
     added.clear();
     loop_of.clear();
@@ -2071,13 +2074,13 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
     std::vector<char> crossing(added.size(), 0);  // (per face: the faces run in parallel)
     parallelFor(0, added.size(), threads, [&](std::size_t f) {
       const int l = loop_of[f];
-      if (bad[l] || !refilled[static_cast<std::size_t>(l)]) return;  // (read only here)
+      if (bad[l] || !fresh[static_cast<std::size_t>(l)]) return;  // (read only here)
       const Tri& t = added[f];
       const Vec lo = V[t[0]].cwiseMin(V[t[1]]).cwiseMin(V[t[2]]), hi = V[t[0]].cwiseMax(V[t[1]]).cwiseMax(V[t[2]]);
       surface.overlappingUntil(lo, hi, [&](int g) { return !(crossing[f] = crosses(P, t, T[g])); });
     });
     for (std::size_t l = 0; l < loops.size(); ++l)
-      if (refilled[l]) crosses_surface[l] = 0;
+      if (fresh[l]) crosses_surface[l] = 0;
     for (std::size_t f = 0; f < added.size(); ++f)
       if (crossing[f]) crosses_surface[static_cast<std::size_t>(loop_of[f])] = 1;
     for (std::size_t l = 0; l < loops.size(); ++l)
@@ -2099,14 +2102,14 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
   parallelFor(0, loops.size(), threads, [&](std::size_t l) {
     if (loops[l].size() <= kCubicHoleFilling) fillLoop(l, false);
   });
-  std::vector<char> refilled(loops.size(), 1);
-  std::vector<char> bad = badLoops(refilled);
+  std::vector<char> fresh(loops.size(), 1);
+  std::vector<char> bad = badLoops(fresh);
   bool again = false;
   for (std::size_t l = 0; l < loops.size(); ++l) {
-    refilled[l] = bad[l] && loops[l].size() >= 3 && loops[l].size() <= kCubicHoleFilling;
-    if (refilled[l]) fillLoop(l, true), again = true;
+    fresh[l] = bad[l] && loops[l].size() >= 3 && loops[l].size() <= kCubicHoleFilling;
+    if (fresh[l]) fillLoop(l, true), again = true;
   }
-  if (again) bad = badLoops(refilled);
+  if (again) bad = badLoops(fresh);
   // Every loop that still cannot be filled is reported at once.
   for (std::size_t l = 0; l < loops.size(); ++l)
     if (bad[l]) fail(loops[l]);
