@@ -615,10 +615,10 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
 
   // Crossing pairs and their exact intersections. Every point gets its number when it is made:
   // points are identified by exact equality (PointIndex: exact comparisons only between points
-  // whose interval boxes overlap), and cut points by their names first. The inexact points are evaluated exactly first: the parallel tests of the pairs
-  // then leave every point's interval as it was, and the doubles of the points made from them do
-  // not depend on the tests' timing (see Arrangement::approx). `pad` bounds how far the inexact
-  // points' doubles are from them.
+  // whose interval boxes overlap), and cut points by their names first. The inexact points are
+  // evaluated exactly first: the parallel tests of the pairs then leave every point's interval
+  // as it was, and the doubles of the points made from them do not depend on the tests' timing
+  // (see Arrangement::approx). `pad` bounds how far the inexact points' doubles are from them.
   Arrangement out;
   out.points = ep;
   out.approx.reserve(ip.size());
@@ -1924,6 +1924,15 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
   tree.build(A.approx, walls, threads);
   parallelFor(0, probes.size(), threads, [&](std::size_t i) {
     const std::size_t f = static_cast<std::size_t>(probes[i].first);
+    // The face's probes, made once for all the walls they are tested against.
+    Vec from[kOrigins], to[kOrigins];
+    IK::Segment_3 probe[kOrigins];
+    CGAL::Bbox_3 probe_box[kOrigins];
+    for (int k = 0; k < kOrigins; ++k) {
+      from[k] = origin(f, k), to[k] = probeEnd(f, k);
+      probe[k] = IK::Segment_3(ipoint(from[k]), ipoint(to[k]));
+      probe_box[k] = probe[k].bbox();
+    }
     unsigned met = 0;
     // (the box is widened by a few ulps: the segments' ends are rounded sums)
     const Vec pad = Vec::Constant(1e-15 * (1.0 + probes[i].second[1].cwiseAbs().maxCoeff() +
@@ -1934,18 +1943,17 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
       const Tri& t = A.faces[g];
       const IK::Triangle_3 wall(P[t[0]], P[t[1]], P[t[2]]);
       const CGAL::Bbox_3 wall_box = P[t[0]].bbox() + P[t[1]].bbox() + P[t[2]].bbox();
+      const Vec& nf = empty_normal[f];
       for (int k = 0; k < kOrigins; ++k) {
         if (met >> k & 1) continue;
         // (a wall wholly behind the probe's origin; see kFacing)
-        const Vec o = origin(f, k);
-        const Vec& nf = empty_normal[f];
+        const Vec& o = from[k];
         if (nf.dot(vec(t[0]) - o) <= 0 && nf.dot(vec(t[1]) - o) <= 0 && nf.dot(vec(t[2]) - o) <= 0) continue;
-        const IK::Segment_3 probe(ipoint(o), ipoint(probeEnd(f, k)));
-        if (CGAL::do_overlap(probe.bbox(), wall_box) && CGAL::do_intersect(probe, wall)) met |= 1u << k;
+        if (CGAL::do_overlap(probe_box[k], wall_box) && CGAL::do_intersect(probe[k], wall)) met |= 1u << k;
       }
     });
     for (int k = 0; k < kOrigins && !flag[f]; ++k)
-      if (met >> k & 1) flag[f] = inside_swept(probeEnd(f, k));
+      if (met >> k & 1) flag[f] = inside_swept(to[k]);
   });
   return flag;
 }
