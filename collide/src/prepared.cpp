@@ -401,7 +401,8 @@ class TreeQuery {
 
   // Appends to pool the static nodes under pool[begin, end) whose boxes meet s: leaves, or nodes
   // no larger than s (all the way to leaves when to_leaves).
-  void filterStatic(const Swept& s, unsigned begin, unsigned end, bool to_leaves, std::vector<unsigned>& pool) {
+  void filterStatic(const Swept& s, double mag, unsigned begin, unsigned end, bool to_leaves,
+                    std::vector<unsigned>& pool) {
     for (unsigned i = begin; i < end; ++i) {
       stack_.push_back(pool[i]);
       while (!stack_.empty()) {
@@ -411,7 +412,10 @@ class TreeQuery {
         if (!overlaps(n, s)) continue;
         const double size = std::max({static_cast<double>(n.hi[0]) - n.lo[0], static_cast<double>(n.hi[1]) - n.lo[1],
                                       static_cast<double>(n.hi[2]) - n.lo[2]});
-        if (n.count > 0 || (!to_leaves && size <= s.size)) {
+        if (n.count > 0) {
+          if (!to_leaves && planeApart(s, st_.tree_faces[n.first], mag)) continue;
+          pool.push_back(id);
+        } else if (!to_leaves && size <= s.size) {
           pool.push_back(id);
         } else {
           stack_.push_back(n.first);
@@ -419,6 +423,26 @@ class TreeQuery {
         }
       }
     }
+  }
+
+  // Whether static face g stays apart from swept box s along the face's normal n: the box's
+  // projection is n.c +- |n|.h (c, h its centre and half sides), the face's the range of its
+  // vertices' projections. The box holds every point its moving node reaches over the interval
+  // (and the contact distance), so a gap along n means no contact there with the node or any
+  // node under it, on the interval or any part of it (it is applied to the static leaves met by
+  // inner nodes and waiting triangles; the face tests of candidate cover the rest). Rounding:
+  // the box's centre and half sides and the dot products (unit n) are within a few 2^-53 of
+  // coordinates below 3 mag + size (mag bounds the static coordinates and the moving vertices at
+  // the middle, |x| <= |t| + |L| vmax; a node's box reaches |L| |h| <= sqrt 3 |L| vmax farther,
+  // plus its travel), far inside the margin 1e-12 (mag + size).
+  bool planeApart(const Swept& s, unsigned g, double mag) const {
+    const Vec& nv = st_.normal[g];
+    const auto& gf = st_.F[g];
+    const Vec c = 0.5 * (s.lo + s.hi), h = 0.5 * (s.hi - s.lo);
+    const double pc = nv.dot(c), ph = nv.cwiseAbs().dot(h);
+    const double b0 = nv.dot(st_.V[gf[0]]), b1 = nv.dot(st_.V[gf[1]]), b2 = nv.dot(st_.V[gf[2]]);
+    const double e = 1e-12 * (mag + s.size);
+    return pc - ph > std::max({b0, b1, b2}) + e || std::min({b0, b1, b2}) > pc + ph + e;
   }
 
   // Whether moving triangle t (placed on the current interval, swept box s) stays apart from
@@ -493,7 +517,7 @@ class TreeQuery {
       const Swept s = leaf ? triangleBox(sc, f, e.node, t) : nodeBox(sc, f, n);
       const bool halve = can_halve && s.path > waitBound(n, s.rho, f);
       const auto mark = static_cast<unsigned>(pool.size());
-      filterStatic(s, e.begin, e.end, leaf && !halve, pool);
+      filterStatic(s, f.mag, e.begin, e.end, leaf && !halve, pool);
       const auto stop = static_cast<unsigned>(pool.size());
       if (stop == mark) continue;
       if (halve) {
