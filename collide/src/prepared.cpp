@@ -425,6 +425,16 @@ class TreeQuery {
     }
   }
 
+  // The end of span time [a, b] left to search in span i: in a first-contact (or any) query,
+  // the best contact so far in this span, when it is inside. A contact that comes before it
+  // has a time no later, hence a span time no later (the global time t0 + s (t1 - t0) grows
+  // with s), so the closed interval [a, best span time] holds every contact that can still
+  // win; solve cuts the exact solves at the same span time.
+  double capEnd(std::size_t i, double a, double b) const {
+    if (mode_ == Mode::All || !best_ || best_->span != i || !(best_->span_time < b)) return b;
+    return std::max(a, best_->span_time);
+  }
+
   // Whether static face g stays apart from swept box s along the face's normal n: the box's
   // projection is n.c +- |n|.h (c, h its centre and half sides), the face's the range of its
   // vertices' projections. The box holds every point its moving node reaches over the interval
@@ -494,6 +504,7 @@ class TreeQuery {
       done_ = true;  // every later interval starts later still
       return;
     }
+    b = capEnd(i, a, b);
     const Frame f = frame(sc, a, b);
     const auto d = static_cast<std::size_t>(depth);
     std::vector<unsigned>& pool = levels_[d].pool;
@@ -542,6 +553,7 @@ class TreeQuery {
     pool.resize(pool_size);
     local(i, reached);
     if (wait.empty() || done_) return;
+    b = capEnd(i, a, b);  // (local may have found a contact)
     const double m = 0.5 * (a + b);
     interval(i, a, m, depth + 1);
     interval(i, m, b, depth + 1);
@@ -587,6 +599,8 @@ class TreeQuery {
       LocalItem it = std::move(heap.back());
       heap.pop_back();
       if (mode_ != Mode::All && best_ && globalTime(sc, it.a) > best_->t) break;  // the rest start later
+      // (its placement on the uncut interval stays valid on the part left)
+      it.b = capEnd(i, it.a, it.b);
       if (it.depth >= kMaxDepth || it.s.path <= kLocal * std::max(it.s.rho, kLocalFloor * feature_)) {
         stats.candidate_pairs += it.end - it.begin;
         solve(i, it.a, it.b, it.t, it.begin, it.end);
