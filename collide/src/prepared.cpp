@@ -413,7 +413,8 @@ class TreeQuery {
         const double size = std::max({static_cast<double>(n.hi[0]) - n.lo[0], static_cast<double>(n.hi[1]) - n.lo[1],
                                       static_cast<double>(n.hi[2]) - n.lo[2]});
         if (n.count > 0) {
-          if (!to_leaves && planeApart(s, st_.tree_faces[n.first], mag)) continue;
+          // (a leaf holds one face, see StaticBuilder; the test needs that)
+          if (n.count == 1 && !to_leaves && planeApart(s, st_.tree_faces[n.first], mag)) continue;
           pool.push_back(id);
         } else if (!to_leaves && size <= s.size) {
           pool.push_back(id);
