@@ -70,6 +70,7 @@
 #include <set>
 #include <string>
 #include <unordered_map>
+#include <utility>
 #include <variant>
 
 namespace steady::sweep {
@@ -1961,19 +1962,20 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
 // Closes the surface where buried patches were left out: a pocket that opened to the outside
 // leaves a thin mouth, loops of edges with one face. The unmatched edges are followed into
 // simple loops (a vertex met again closes the loop from its first visit), and each loop is
-// triangulated by CGAL's hole filling (least area); the new faces run against the loop, so the
+// triangulated (see kCubicHoleFilling); the new faces run against the loop, so the
 // surface is closed again. Returns the number of loops filled, or -1 (and leaves T alone) when
 // some edge path does not close, some loop cannot be filled, a filling face would leave an
 // edge with other than two faces, or a filling face crosses the surface or another filling
 // face; `trouble` then holds the vertices of every such path and loop.
-// Loops of up to this many points are filled first by CGAL's search over all triangulations of
-// the polygon (cubic in its size: about 3e5 candidate triangles at this size), which chooses the
-// same filling on every run. CGAL's faster search within a 3D Delaunay triangulation of the
-// points, used for the short loops the first filling leaves crossing something, does not
-// always fill a loop the same way: its choice depends on memory addresses (one 8-point loop of
-// the armadillo screw, filled 200 times in one process, came out two ways; its 3D Delaunay
-// triangulation was the same each time; the cause inside CGAL was not traced). So the
-// envelopes that need it can differ from run to run (see SweepOptions::threads).
+// Loops of up to this many points are filled by a search over all triangulations of the
+// polygon (cubic in its size: about 3e5 candidate triangles at this size): CGAL's first, then,
+// for the loops whose filling is bad, fillMouths' own (refillLoop), which leaves out the
+// diagonals that repeat a surface edge and the triangles found crossing the surface. Both
+// choose the same filling on every run. (The refill was CGAL's search within a 3D Delaunay
+// triangulation of the points, whose choice depended on memory addresses, so that envelopes
+// could differ from run to run; it also filled few of those loops: 29 of the elephant screw's
+// 725 in the first round, against 534 now, since 586 of them failed by repeating an edge;
+// knot1's mouths now need 2 rounds instead of 4.)
 // Longer loops are not filled: they fail at once, so their buried patches and crack regions are
 // kept. Filled within the Delaunay triangulation as well, they failed in every case measured
 // (first rounds of the five benchmark samples' screws at 1e-3 and 1e-2 eps: 60 of 60 such
@@ -1982,6 +1984,9 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
 // thread (bunny00's screw at 1e-2: 40 loops of up to 458 points; knot1's at 1e-3: 3 loops,
 // 1.75 s).
 constexpr std::size_t kCubicHoleFilling = 128;
+// Searches of fillMouths' refilling of one loop, each excluding the triangles the searches
+// before it found crossing the surface.
+constexpr int kRefillSearches = 8;
 
 long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>& trouble, int threads) {
   // Per undirected edge: how many faces use it and the net direction (a < b positive), by a
@@ -2004,6 +2009,11 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
       out.back().net += dir;
     }
     return out;
+  };
+  // The use of an edge in a sorted list of edge uses (none: 0 faces).
+  auto useOf = [](const std::vector<EdgeUse>& use, std::uint64_t key) {
+    const auto u = std::lower_bound(use.begin(), use.end(), key, [](const EdgeUse& e, std::uint64_t x) { return e.key < x; });
+    return u != use.end() && u->key == key ? *u : EdgeUse{key, 0, 0};
   };
   // Unmatched directed edges a -> b (as the faces run), by their start.
   const std::vector<EdgeUse> surface_use = edgeUses({&T});
@@ -2048,7 +2058,7 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
   // (i, j, k), i < j < k, run along the loop; the faces next to the loop run along it too, so
   // the filling faces are reversed.
   std::vector<std::vector<Tri>> fill(loops.size());
-  auto fillLoop = [&](std::size_t l, bool delaunay) {
+  auto fillLoop = [&](std::size_t l) {
     const std::vector<int>& loop = loops[l];
     fill[l].clear();
     if (loop.size() < 3) return;
@@ -2056,7 +2066,7 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
     for (int v : loop) pts.emplace_back(V[v].x(), V[v].y(), V[v].z());
     std::vector<CGAL::Triple<int, int, int>> patch;
     CGAL::Polygon_mesh_processing::triangulate_hole_polyline(pts, std::back_inserter(patch),
-                                                             CGAL::parameters::use_delaunay_triangulation(delaunay));
+                                                             CGAL::parameters::use_delaunay_triangulation(false));
     if (patch.size() != loop.size() - 2) return;
     for (const auto& x : patch) fill[l].push_back({{loop[x.first], loop[x.third], loop[x.second]}});
   };
@@ -2085,10 +2095,6 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
     }
     // Edge uses: the surface's (sorted once) plus the filling faces'.
     const std::vector<EdgeUse> added_use = edgeUses({&added});
-    auto useOf = [](const std::vector<EdgeUse>& use, std::uint64_t key) {
-      const auto u = std::lower_bound(use.begin(), use.end(), key, [](const EdgeUse& e, std::uint64_t x) { return e.key < x; });
-      return u != use.end() && u->key == key ? *u : EdgeUse{key, 0, 0};
-    };
     for (std::size_t f = 0; f < added.size(); ++f)
       for (int k = 0; k < 3; ++k) {
         const std::uint64_t key = edgeKey(added[f][k], added[f][(k + 1) % 3]);
@@ -2118,21 +2124,103 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
     });
     return bad;
   };
-  // Short loops are filled first by the search over all their triangulations, whose choice is
-  // the same on every run; those it fills badly are filled again within the 3D Delaunay
-  // triangulation of their points (it avoids other faces better). Longer loops stay unfilled,
-  // hence bad (see kCubicHoleFilling).
-  // (the full searches in parallel: each fills its own loop; the Delaunay searches on this thread)
+  // Loop l filled again, avoiding what made its first filling bad: the best triangulation,
+  // ranked like CGAL's search (least largest bend between neighbouring filling faces, then least
+  // area), among those whose diagonals are not edges of the surface (a repeated edge would have
+  // more than two faces: most first fillings that fail, fail so) and whose triangles are
+  // neither collinear nor found crossing the surface. A search over all triangulations (O(n^3)
+  // over the loop's n points); its triangles are then tested against the surface, and those
+  // that cross are excluded from the next search, up to kRefillSearches searches. Leaves
+  // fill[l] empty when none is found.
+  auto refillLoop = [&](std::size_t l) {
+    const std::vector<int>& loop = loops[l];
+    const int n = static_cast<int>(loop.size());
+    fill[l].clear();
+    auto at = [n](int i, int k) { return static_cast<std::size_t>(i) * static_cast<std::size_t>(n) + static_cast<std::size_t>(k); };
+    std::vector<char> usable(static_cast<std::size_t>(n) * static_cast<std::size_t>(n), 1);  // diagonals (i < k)
+    for (int i = 0; i < n; ++i)
+      for (int k = i + 2; k < n; ++k)
+        if (!(i == 0 && k == n - 1)) usable[at(i, k)] = useOf(surface_use, edgeKey(loop[i], loop[k])).faces == 0;
+    auto normal = [&](int i, int m, int k) {
+      const Vec& a = V[loop[i]];
+      return Vec((V[loop[m]] - a).cross(V[loop[k]] - a));
+    };
+    // Per sub-polygon (i, k): its best triangulation's largest bend (1 - cos of the angle
+    // between the normals of two faces across a diagonal), its area, and the apex of the face
+    // on the diagonal (i, k).
+    struct Best {
+      double bend = HUGE_VAL, area = HUGE_VAL;
+      int apex = -1;
+    };
+    std::vector<Best> best(usable.size());
+    std::set<std::array<int, 3>> excluded;
+    for (int search = 0; search < kRefillSearches; ++search) {
+      for (int i = 0; i + 1 < n; ++i) best[at(i, i + 1)] = {0.0, 0.0, -1};
+      for (int len = 2; len < n; ++len)
+        for (int i = 0; i + len < n; ++i) {
+          const int k = i + len;
+          Best& b = best[at(i, k)];
+          b = Best();
+          if (!usable[at(i, k)]) continue;
+          for (int m = i + 1; m < k; ++m) {
+            const Best &left = best[at(i, m)], &right = best[at(m, k)];
+            if (left.apex < 0 && m - i > 1) continue;  // (no triangulation)
+            if (right.apex < 0 && k - m > 1) continue;
+            if (excluded.count({{i, m, k}}) || CGAL::collinear(P[loop[i]], P[loop[m]], P[loop[k]])) continue;
+            const Vec nt = normal(i, m, k);
+            const double len_t = nt.norm();
+            auto bend = [&](int x, int apex, int y) {
+              if (apex < 0) return 0.0;
+              const Vec ns = normal(x, apex, y);
+              return 1.0 - ns.dot(nt) / (ns.norm() * len_t);
+            };
+            const double worst = std::max({left.bend, right.bend, bend(i, left.apex, m), bend(m, right.apex, k)});
+            const double area = left.area + right.area + 0.5 * len_t;
+            if (std::make_pair(worst, area) < std::make_pair(b.bend, b.area)) b = {worst, area, m};
+          }
+        }
+      if (best[at(0, n - 1)].apex < 0) return;
+      std::vector<std::array<int, 3>> chosen;  // (i, m, k), i < m < k
+      std::vector<std::pair<int, int>> todo{{0, n - 1}};
+      while (!todo.empty()) {
+        const auto [i, k] = todo.back();
+        todo.pop_back();
+        if (k - i < 2) continue;
+        const int m = best[at(i, k)].apex;
+        chosen.push_back({{i, m, k}});
+        todo.push_back({i, m});
+        todo.push_back({m, k});
+      }
+      bool crossing = false;
+      for (const auto& x : chosen) {
+        const Tri t{{loop[x[0]], loop[x[2]], loop[x[1]]}};
+        const Vec lo = V[t[0]].cwiseMin(V[t[1]]).cwiseMin(V[t[2]]), hi = V[t[0]].cwiseMax(V[t[1]]).cwiseMax(V[t[2]]);
+        bool hit = false;
+        surface.overlappingUntil(lo, hi, [&](int g) { return !(hit = crosses(P, t, T[g])); });
+        if (hit) excluded.insert(x), crossing = true;
+      }
+      if (crossing) continue;
+      for (const auto& x : chosen) fill[l].push_back({{loop[x[0]], loop[x[2]], loop[x[1]]}});
+      return;
+    }
+  };
+  // Short loops are filled first by CGAL's search over all their triangulations; those it
+  // fills badly are filled again by refillLoop. Both choose the same filling on every run.
+  // Longer loops stay unfilled, hence bad (see kCubicHoleFilling). (Each search fills its own
+  // loop: they run in parallel.)
   parallelFor(0, loops.size(), threads, [&](std::size_t l) {
-    if (loops[l].size() <= kCubicHoleFilling) fillLoop(l, false);
+    if (loops[l].size() <= kCubicHoleFilling) fillLoop(l);
   });
   std::vector<char> fresh(loops.size(), 1);
   std::vector<char> bad = badLoops(fresh);
   bool again = false;
   for (std::size_t l = 0; l < loops.size(); ++l) {
     fresh[l] = bad[l] && loops[l].size() >= 3 && loops[l].size() <= kCubicHoleFilling;
-    if (fresh[l]) fillLoop(l, true), again = true;
+    again = again || fresh[l];
   }
+  parallelFor(0, loops.size(), threads, [&](std::size_t l) {
+    if (fresh[l]) refillLoop(l);
+  });
   if (again) bad = badLoops(fresh);
   // Every loop that still cannot be filled is reported at once.
   for (std::size_t l = 0; l < loops.size(); ++l)

@@ -67,12 +67,10 @@ struct SweepOptions {
   /// Check the rounded output for self-intersections with CGAL (EnvelopeCheck); costs about
   /// a tenth of the sweep. Default on.
   bool check = true;
-  /// Threads for the exact re-triangulations, the edge orderings of the labels and the inside
-  /// tests: 0 (default) uses every hardware thread, 1 runs on the calling thread alone. Every
-  /// stage gives the same result for any number, with one exception: mouth loops that CGAL's
-  /// search over all triangulations fills badly (and loops over 128 points) are filled by its
-  /// search within a 3D Delaunay triangulation, whose choice depends on memory addresses, so
-  /// those fillings (a few dozen faces on the largest samples) can differ from run to run.
+  /// Threads for the exact re-triangulations, the edge orderings of the labels, the inside
+  /// tests and the mouth fillings: 0 (default) uses every hardware thread, 1 runs on the
+  /// calling thread alone. The envelope is the same, bit for bit, for any number and from run
+  /// to run.
   int threads = 0;
   /// Called now and then from the calling thread (at most about a hundred times); may be empty.
   std::function<void(const SweepProgress&)> progress;
