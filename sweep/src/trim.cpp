@@ -1987,6 +1987,13 @@ constexpr std::size_t kCubicHoleFilling = 128;
 // Searches of fillMouths' refilling of one loop, each excluding the triangles the searches
 // before it found crossing the surface.
 constexpr int kRefillSearches = 8;
+// Loops of up to this many points are refilled (refillLoop, cubic in the size, up to
+// kRefillSearches times). On bunny00's screw at 1e-2 the first round's bad fillings were of
+// 5,514 loops, 240 of them over 32 points; refilling those took most of the round's 3.3 s (one
+// thread), and the output stage took 16.8 s with the limit at 64 points and 13.6 s at 32 (12.6
+// s with the Delaunay refill), with nearly the same envelope (8,475 crack faces left out
+// instead of 8,542). Elephant screw at 1e-3: 1.84 and 1.76 s (1.60 s).
+constexpr std::size_t kRefillPoints = 32;
 
 long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>& trouble, int threads) {
   // Per undirected edge: how many faces use it and the net direction (a < b positive), by a
@@ -2141,21 +2148,18 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
     for (int i = 0; i < n; ++i)
       for (int k = i + 2; k < n; ++k)
         if (!(i == 0 && k == n - 1)) usable[at(i, k)] = useOf(surface_use, edgeKey(loop[i], loop[k])).faces == 0;
-    auto normal = [&](int i, int m, int k) {
-      const Vec& a = V[loop[i]];
-      return Vec((V[loop[m]] - a).cross(V[loop[k]] - a));
-    };
     // Per sub-polygon (i, k): its best triangulation's largest bend (1 - cos of the angle
-    // between the normals of two faces across a diagonal), its area, and the apex of the face
-    // on the diagonal (i, k).
+    // between the normals of two faces across a diagonal), its area, and the apex and unit
+    // normal of its face on the diagonal (i, k).
     struct Best {
       double bend = HUGE_VAL, area = HUGE_VAL;
       int apex = -1;
+      Vec unit = Vec::Zero();
     };
     std::vector<Best> best(usable.size());
     std::set<std::array<int, 3>> excluded;
     for (int search = 0; search < kRefillSearches; ++search) {
-      for (int i = 0; i + 1 < n; ++i) best[at(i, i + 1)] = {0.0, 0.0, -1};
+      for (int i = 0; i + 1 < n; ++i) best[at(i, i + 1)] = {0.0, 0.0, -1, Vec::Zero()};
       for (int len = 2; len < n; ++len)
         for (int i = 0; i + len < n; ++i) {
           const int k = i + len;
@@ -2166,17 +2170,17 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
             const Best &left = best[at(i, m)], &right = best[at(m, k)];
             if (left.apex < 0 && m - i > 1) continue;  // (no triangulation)
             if (right.apex < 0 && k - m > 1) continue;
-            if (excluded.count({{i, m, k}}) || CGAL::collinear(P[loop[i]], P[loop[m]], P[loop[k]])) continue;
-            const Vec nt = normal(i, m, k);
+            const Vec e1 = V[loop[m]] - V[loop[i]], e2 = V[loop[k]] - V[loop[i]];
+            const Vec nt = e1.cross(e2);
             const double len_t = nt.norm();
-            auto bend = [&](int x, int apex, int y) {
-              if (apex < 0) return 0.0;
-              const Vec ns = normal(x, apex, y);
-              return 1.0 - ns.dot(nt) / (ns.norm() * len_t);
-            };
-            const double worst = std::max({left.bend, right.bend, bend(i, left.apex, m), bend(m, right.apex, k)});
+            // (collinear only if the rounded cross product is within its rounding of zero)
+            if (!(len_t > 1e-12 * e1.norm() * e2.norm()) && CGAL::collinear(P[loop[i]], P[loop[m]], P[loop[k]])) continue;
+            if (excluded.count({{i, m, k}})) continue;
+            const Vec unit = nt / len_t;
+            const double worst = std::max({left.bend, right.bend, left.apex < 0 ? 0.0 : 1.0 - left.unit.dot(unit),
+                                           right.apex < 0 ? 0.0 : 1.0 - right.unit.dot(unit)});
             const double area = left.area + right.area + 0.5 * len_t;
-            if (std::make_pair(worst, area) < std::make_pair(b.bend, b.area)) b = {worst, area, m};
+            if (std::make_pair(worst, area) < std::make_pair(b.bend, b.area)) b = {worst, area, m, unit};
           }
         }
       if (best[at(0, n - 1)].apex < 0) return;
@@ -2205,9 +2209,9 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
     }
   };
   // Short loops are filled first by CGAL's search over all their triangulations; those it
-  // fills badly are filled again by refillLoop. Both choose the same filling on every run.
-  // Longer loops stay unfilled, hence bad (see kCubicHoleFilling). (Each search fills its own
-  // loop: they run in parallel.)
+  // fills badly are filled again by refillLoop (up to kRefillPoints points). Both choose the
+  // same filling on every run. Longer loops stay unfilled, hence bad (see kCubicHoleFilling).
+  // (Each search fills its own loop: they run in parallel.)
   parallelFor(0, loops.size(), threads, [&](std::size_t l) {
     if (loops[l].size() <= kCubicHoleFilling) fillLoop(l);
   });
@@ -2215,7 +2219,7 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
   std::vector<char> bad = badLoops(fresh);
   bool again = false;
   for (std::size_t l = 0; l < loops.size(); ++l) {
-    fresh[l] = bad[l] && loops[l].size() >= 3 && loops[l].size() <= kCubicHoleFilling;
+    fresh[l] = bad[l] && loops[l].size() >= 3 && loops[l].size() <= kRefillPoints;
     again = again || fresh[l];
   }
   parallelFor(0, loops.size(), threads, [&](std::size_t l) {
