@@ -1974,8 +1974,9 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
 // choose the same filling on every run. (The refill was CGAL's search within a 3D Delaunay
 // triangulation of the points, whose choice depended on memory addresses, so that envelopes
 // could differ from run to run; it also filled few of those loops: 29 of the elephant screw's
-// 725 in the first round, against 534 now, since 586 of them failed by repeating an edge;
-// knot1's mouths now need 2 rounds instead of 4.)
+// 725 bad first fillings in the first round, against 471 now (of the 679 up to kRefillPoints
+// points), since 586 of them failed by repeating an edge; knot1's mouths now need 2 rounds
+// instead of 4.)
 // Longer loops are not filled: they fail at once, so their buried patches and crack regions are
 // kept. Filled within the Delaunay triangulation as well, they failed in every case measured
 // (first rounds of the five benchmark samples' screws at 1e-3 and 1e-2 eps: 60 of 60 such
