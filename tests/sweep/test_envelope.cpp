@@ -467,6 +467,35 @@ TEST(Envelope, FaceThroughTheScrewAxisOnAPolySamIsClosedAndEmbedded) {
   EXPECT_EQ(directedEdgeFaults(env.triangles, env.vertices.size()), "");
 }
 
+// The envelope vertices inside the box [lo, hi] under the certified oracle: each must be within
+// T = 1.01 eps of the true boundary (within T of some posed body and never deeper than T inside
+// one; the 1% is the oracle's resolution, as in checkEnvelope). Reports each failure (up to
+// kMaxMessages) and returns the counts.
+struct NearCheck {
+  int checked = 0, failed = 0, undecided = 0;
+};
+NearCheck checkVerticesInBox(const Envelope& env, const MovingBody& mb, const V& lo, const V& hi) {
+  const double eps = env.tolerance;
+  const double T = eps * 1.01;
+  NearCheck c;
+  for (std::size_t i = 0; i < env.vertices.size(); ++i) {
+    const V& x = env.vertices[i];
+    if ((x.array() < lo.array()).any() || (x.array() > hi.array()).any()) continue;
+    ++c.checked;
+    const MinBracket b = minSignedDistance(
+        mb, x, [&](double blo, double bhi) { return (bhi <= T && blo >= -T) || blo > T || bhi < -T; }, 6000);
+    if (b.lo > T || b.hi < -T) {
+      if (++c.failed <= kMaxMessages)
+        ADD_FAILURE() << "envelope vertex " << i << " at " << x.transpose() << " is "
+                      << (b.lo > T ? "farther than " + std::to_string(b.lo / eps) + " eps from every posed body"
+                                   : std::to_string(-b.hi / eps) + " eps inside the body posed at tau " + std::to_string(b.tau));
+    } else if (!(b.hi <= T && b.lo >= -T)) {
+      ++c.undecided;
+    }
+  }
+  return c;
+}
+
 // The first span of the polySAM above alone: a quarter turn about the z axis that rises by 2.5
 // and scales by 1.2. The bracket's base-plate hole has a faceted wall nearly tangent to the
 // motion; on it, a front sliver of a facet sweeps a slab far thinner than ε, the tessellated
@@ -487,32 +516,14 @@ TEST(Envelope, CrackAlongTheBracketHoleOnAQuarterTurn) {
   const Envelope env = sweep(m, motion);
   expectOneEmbeddedShell(env);
   EXPECT_GT(env.crack_faces_removed, 0u);
-  const double eps = env.tolerance;
-  const double T = eps * 1.01;
-  const MovingBody mb(m, motion);
-  const V lo(-1.0, 3.0, 2.0), hi(1.0, 5.5, 3.2);  // holds the 14 vertices found before, with margin
-  int checked = 0, failed = 0, undecided = 0;
-  for (std::size_t i = 0; i < env.vertices.size(); ++i) {
-    const V& x = env.vertices[i];
-    if ((x.array() < lo.array()).any() || (x.array() > hi.array()).any()) continue;
-    ++checked;
-    const MinBracket b = minSignedDistance(
-        mb, x, [&](double blo, double bhi) { return (bhi <= T && blo >= -T) || blo > T || bhi < -T; }, 6000);
-    if (b.lo > T || b.hi < -T) {
-      if (++failed <= kMaxMessages)
-        ADD_FAILURE() << "envelope vertex " << i << " at " << x.transpose() << " is "
-                      << (b.lo > T ? "farther than " + std::to_string(b.lo / eps) + " eps from every posed body"
-                                   : std::to_string(-b.hi / eps) + " eps inside the body posed at tau " + std::to_string(b.tau));
-    } else if (!(b.hi <= T && b.lo >= -T)) {
-      ++undecided;
-    }
-  }
-  EXPECT_GE(checked, 250) << "the box no longer holds the vertices along the hole wall";
-  EXPECT_EQ(failed, 0);
-  EXPECT_LE(undecided, checked / 50) << "envelope vertices the oracle could not decide within its budget";
+  // (the box holds the 14 vertices found before, with margin)
+  const NearCheck c = checkVerticesInBox(env, MovingBody(m, motion), V(-1.0, 3.0, 2.0), V(1.0, 5.5, 3.2));
+  EXPECT_GE(c.checked, 250) << "the box no longer holds the vertices along the hole wall";
+  EXPECT_EQ(c.failed, 0);
+  EXPECT_LE(c.undecided, c.checked / 50) << "envelope vertices the oracle could not decide within its budget";
   std::printf("[ info     ] bracket quarter turn: %zu vertices, %d checked near the hole wall, %d fail, %d undecided, "
               "%zu crack faces removed, %.2fs\n",
-              env.vertices.size(), checked, failed, undecided, env.crack_faces_removed,
+              env.vertices.size(), c.checked, c.failed, c.undecided, env.crack_faces_removed,
               std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
 }
 
@@ -543,39 +554,20 @@ TEST(Envelope, FaceThroughTheScrewAxisOnAPolySam) {
 // refilling within a 3D Delaunay triangulation failed too, so the crack region was kept and the
 // vertex at (-5.753, -0.382, 6.113) stayed 1.04-3.9 eps inside the body posed at tau 0.999 of
 // that span. The mouth's refilling now leaves out the diagonals that repeat a surface edge.
-// Every envelope vertex near that corner must be within T = 1.01 eps of the true boundary by
-// the certified oracle (the 1% is its resolution).
+// Every envelope vertex near that corner must pass checkVerticesInBox.
 TEST(Envelope, CrackMouthCornerOnTheBracketPolySamIsClosed) {
   const Mesh m = bundledBracket();
   const Affine3 quarter = bracketQuarterTurn();
   const Motion3 motion = Motion3::polySam(std::vector<Affine3>{Affine3(), quarter, quarter * quarter});
   const Envelope env = sweep(m, motion);
   expectOneEmbeddedShell(env);
-  const double eps = env.tolerance;
-  const double T = eps * 1.01;
-  const MovingBody mb(m, motion);
   const V corner(-5.753, -0.382, 6.113), reach(1.0, 1.0, 1.0);
-  int checked = 0, failed = 0, undecided = 0;
-  for (std::size_t i = 0; i < env.vertices.size(); ++i) {
-    const V& x = env.vertices[i];
-    if (((x - corner).cwiseAbs().array() > reach.array()).any()) continue;
-    ++checked;
-    const MinBracket b = minSignedDistance(
-        mb, x, [&](double blo, double bhi) { return (bhi <= T && blo >= -T) || blo > T || bhi < -T; }, 6000);
-    if (b.lo > T || b.hi < -T) {
-      if (++failed <= kMaxMessages)
-        ADD_FAILURE() << "envelope vertex " << i << " at " << x.transpose() << " is "
-                      << (b.lo > T ? "farther than " + std::to_string(b.lo / eps) + " eps from every posed body"
-                                   : std::to_string(-b.hi / eps) + " eps inside the body posed at tau " + std::to_string(b.tau));
-    } else if (!(b.hi <= T && b.lo >= -T)) {
-      ++undecided;
-    }
-  }
-  EXPECT_GE(checked, 50) << "the box no longer holds the vertices near the corner";
-  EXPECT_EQ(failed, 0);
-  EXPECT_LE(undecided, checked / 50) << "envelope vertices the oracle could not decide within its budget";
-  std::printf("[ info     ] bracket polySAM corner: %d vertices checked, %d fail, %d undecided\n", checked, failed,
-              undecided);
+  const NearCheck c = checkVerticesInBox(env, MovingBody(m, motion), corner - reach, corner + reach);
+  EXPECT_GE(c.checked, 50) << "the box no longer holds the vertices near the corner";
+  EXPECT_EQ(c.failed, 0);
+  EXPECT_LE(c.undecided, c.checked / 50) << "envelope vertices the oracle could not decide within its budget";
+  std::printf("[ info     ] bracket polySAM corner: %d vertices checked, %d fail, %d undecided\n", c.checked, c.failed,
+              c.undecided);
 }
 
 // The re-triangulations and inside tests run in parallel, and their results are numbered in a
