@@ -497,7 +497,11 @@ class TreeQuery {
   // entries levels_[depth].front, whose ranges index levels_[depth].pool. Both were filled by
   // the parent interval and are read, not changed, here (the sibling interval reads them next);
   // this interval appends its own scratch ranges to the pool and takes them off again before
-  // returning, and fills levels_[depth + 1] for its halves.
+  // returning, and fills levels_[depth + 1] for its halves. A triangle reached is refined and
+  // solved at once (local); in a first-contact (or any) query, a contact found there cuts the
+  // interval at its span time (capEnd), and the nodes still to come are placed on the part
+  // left: smaller swept boxes. (The pools and waiting nodes gathered on the longer interval
+  // hold every static node that the shorter one can meet.)
   void interval(std::size_t i, double a, double b, int depth) {
     SpanCtx& sc = spans_[i];
     if (done_) return;
@@ -506,7 +510,7 @@ class TreeQuery {
       return;
     }
     b = capEnd(i, a, b);
-    const Frame f = frame(sc, a, b);
+    Frame f = frame(sc, a, b);
     const auto d = static_cast<std::size_t>(depth);
     std::vector<unsigned>& pool = levels_[d].pool;
     const std::size_t pool_size = pool.size();
@@ -516,9 +520,6 @@ class TreeQuery {
     std::vector<unsigned>& wait_pool = levels_[d + 1].pool;
     wait.clear();
     wait_pool.clear();
-    std::vector<LocalItem>& reached = reached_;
-    reached.clear();
-    local_faces_.clear();
     const bool can_halve = depth < kMaxDepth;
     while (!work.empty()) {
       const Entry e = work.back();
@@ -540,21 +541,27 @@ class TreeQuery {
         work.push_back({static_cast<unsigned>(n.left) + 1, mark, stop});
         work.push_back({static_cast<unsigned>(n.left), mark, stop});
       } else {
-        const auto fb = static_cast<unsigned>(local_faces_.size());
+        local_faces_.clear();
         for (unsigned k = mark; k < stop; ++k) {
           const StaticNode& sn = st_.tree[pool[k]];
           for (unsigned j = sn.first; j < sn.first + sn.count; ++j)
             if (candidate(t, s, st_.tree_faces[j])) local_faces_.push_back(st_.tree_faces[j]);
         }
-        const auto fe = static_cast<unsigned>(local_faces_.size());
-        if (fe > fb) reached.push_back({a, b, depth, e.node, t, s, fb, fe});
+        if (!local_faces_.empty()) {
+          reached_.assign(1, LocalItem{a, b, depth, e.node, t, s, 0, static_cast<unsigned>(local_faces_.size())});
+          local(i, reached_);
+          if (done_) break;
+          const double cut = capEnd(i, a, b);
+          if (cut < b) {
+            b = cut;
+            f = frame(sc, a, b);
+          }
+        }
       }
       if (halve || leaf) pool.resize(mark);  // (children of an inner node keep [mark, stop))
     }
     pool.resize(pool_size);
-    local(i, reached);
     if (wait.empty() || done_) return;
-    b = capEnd(i, a, b);  // (local may have found a contact)
     const double m = 0.5 * (a + b);
     interval(i, a, m, depth + 1);
     interval(i, m, b, depth + 1);
@@ -586,11 +593,11 @@ class TreeQuery {
     std::vector<unsigned> pool;
   };
 
-  // The triangles an interval reached, earliest sub-interval first (a heap on a): each is halved
-  // in time, for itself alone, while its travel exceeds kLocal of its radius (a halving costs a
-  // placement and a separating-axis test per face, against about a microsecond per exact pair
-  // solve), then solved exactly. In a first-contact query, the sub-intervals that start after
-  // the earliest contact found are never refined nor solved.
+  // A triangle an interval reached (the one item of heap), halved in time for itself alone,
+  // earliest sub-interval first (a heap on a), while its travel exceeds kLocal of its radius (a
+  // halving costs a placement and a separating-axis test per face, against about a microsecond
+  // per exact pair solve), then solved exactly. In a first-contact query, the sub-intervals that
+  // start after the earliest contact found are never refined nor solved.
   void local(std::size_t i, std::vector<LocalItem>& heap) {
     SpanCtx& sc = spans_[i];
     auto later = [](const LocalItem& x, const LocalItem& y) { return x.a > y.a; };
@@ -670,8 +677,8 @@ class TreeQuery {
   std::vector<unsigned> stack_;
   std::vector<Level> levels_;  // by depth (see interval)
   std::vector<Entry> work_;
-  std::vector<LocalItem> reached_;
-  std::vector<unsigned> local_faces_;  // the static faces of the LocalItems of one interval
+  std::vector<LocalItem> reached_;  // the heap of local
+  std::vector<unsigned> local_faces_;  // the static faces of the LocalItems of one triangle (see local)
   bool done_ = false;
 };
 
