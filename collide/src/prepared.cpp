@@ -114,6 +114,7 @@ namespace detail {
 struct BodyNode {
   Vec c, h;
   double hn = 0;  // |h|
+  double chn = 0;  // |c| + |h|
   int left = -1;
   int face = -1;
 };
@@ -143,6 +144,7 @@ struct BodyTree {
     nodes[node].c = 0.5 * (lo + hi);
     nodes[node].h = (hi - nodes[node].c).cwiseMax(nodes[node].c - lo);
     nodes[node].hn = nodes[node].h.norm();
+    nodes[node].chn = nodes[node].c.norm() + nodes[node].hn;
     if (end - begin == 1) {
       nodes[node].face = static_cast<int>(order[begin]);
       return;
@@ -338,7 +340,7 @@ class TreeQuery {
     const Vec vc = sc.M * cw + sc.u;
     Swept s;
     s.rho = ext.norm();
-    const double round = margin_ + kRound * (cw.norm() + f.lnorm * (n.c.norm() + n.h.norm()) + f.tnorm + s.rho);
+    const double round = margin_ + kRound * (cw.lpNorm<1>() + f.lnorm * n.chn + f.tnorm + s.rho);  // (|cw|_1 >= |cw|)
     s.pad = f.r * (vc.cwiseAbs() + sc.row * s.rho) + Vec::Constant((vc.norm() + sc.mu * s.rho) * f.rx + round);
     s.path = s.pad.maxCoeff();
     s.lo = cw - ext - s.pad;
