@@ -161,6 +161,41 @@ TEST(CollidePrepared, FineMeshesOnLongMotionsKeepTheExactFirstContact) {
   }
 }
 
+// A ball landing on a field of small bumps at random heights (the benchmark's kind of scene):
+// many triangles of one time interval meet bumps at nearby, different times, and a contact
+// found on one cuts the interval for the others. The prepared first contact and touches agree
+// with the plain queries; the lowest point of the first contact is on a bump.
+TEST(CollidePrepared, LandingOnBumpsAtRandomHeightsAgreesWithThePlainQueries) {
+  std::mt19937_64 rng(2718281828);
+  std::uniform_real_distribution<double> height(-0.06, 0.02);
+  Mesh field;
+  for (int i = 0; i < 15; ++i)
+    for (int j = 0; j < 15; ++j) {
+      const Mesh bump = uvSphere(6, 12, 0.06, V(0.16 * (i - 7), 0.16 * (j - 7), height(rng)));
+      const int base = static_cast<int>(field.v.size());
+      field.v.insert(field.v.end(), bump.v.begin(), bump.v.end());
+      for (const auto& f : bump.f) field.f.push_back({base + f[0], base + f[1], base + f[2]});
+    }
+  const StaticScene scene(field.v, field.f);
+  const Mesh ball = uvSphere(16, 32, 0.5);
+  const PreparedMesh prepared(ball.v, ball.f);
+  int hits = 0;
+  for (int k = 0; k < 16; ++k) {
+    const auto [B, C] = steady_test::randomSinking(rng, k % 2 == 1);
+    const Motion3 motion = Motion3::polySam(std::vector<Affine3>{B, C});
+    const auto got = scene.firstContact(prepared, motion);
+    const auto plain = scene.firstContact(ball.v, ball.f, motion);
+    ASSERT_EQ(got.has_value(), plain.has_value()) << "motion " << k;
+    EXPECT_EQ(scene.touches(prepared, motion), plain.has_value()) << "motion " << k;
+    if (!got) continue;
+    ++hits;
+    EXPECT_NEAR(got->t, plain->t, 1e-10) << "motion " << k;
+    EXPECT_LE(got->point.z(), 0.02 + 0.06 + 1e-9) << "motion " << k;
+  }
+  EXPECT_GE(hits, 12);
+  std::printf("%d of 16 motions land on a bump\n", hits);
+}
+
 TEST(CollidePrepared, BadInputGivesTypedErrors) {
   const Mesh cube = box(V(-0.5, -0.5, -0.5), V(0.5, 0.5, 0.5));
   // The code of the steady::Error thrown by f (fails the test when f throws nothing).
