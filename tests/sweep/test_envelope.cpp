@@ -26,6 +26,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <string>
 
 namespace {
 
@@ -570,6 +571,16 @@ TEST(Envelope, CrackMouthCornerOnTheBracketPolySamIsClosed) {
               c.undecided);
 }
 
+// Expects envelope b to be a, bit for bit (triangles, then every vertex's doubles); `what`
+// names the case in the messages.
+void expectSameEnvelope(const Envelope& a, const Envelope& b, const std::string& what) {
+  EXPECT_EQ(b.triangles, a.triangles) << what;
+  ASSERT_EQ(b.vertices.size(), a.vertices.size()) << what;
+  std::size_t differ = 0;
+  for (std::size_t v = 0; v < a.vertices.size(); ++v) differ += !(b.vertices[v] == a.vertices[v]);
+  EXPECT_EQ(differ, 0u) << "vertices not bit-identical, " << what;
+}
+
 // The re-triangulations and inside tests run in parallel, and their results are numbered in a
 // fixed order afterwards: the envelope (vertices, triangles, counters) is the same, bit for bit,
 // on one thread, two, and every hardware thread.
@@ -588,10 +599,7 @@ TEST(Envelope, SameEnvelopeOnAnyNumberOfThreads) {
     EXPECT_EQ(b.arrangement_triangles, a.arrangement_triangles) << threads << " threads";
     EXPECT_EQ(b.buried_patches_removed, a.buried_patches_removed) << threads << " threads";
     EXPECT_EQ(b.crack_faces_removed, a.crack_faces_removed) << threads << " threads";
-    EXPECT_EQ(b.triangles, a.triangles) << threads << " threads";
-    ASSERT_EQ(b.vertices.size(), a.vertices.size()) << threads << " threads";
-    for (std::size_t v = 0; v < a.vertices.size(); ++v)
-      ASSERT_TRUE(b.vertices[v] == a.vertices[v]) << "vertex " << v << ", " << threads << " threads";
+    expectSameEnvelope(a, b, std::to_string(threads) + " threads");
   }
   SweepOptions bad;
   bad.threads = -1;
@@ -667,11 +675,7 @@ TEST(Envelope, SameEnvelopeRunToRunOnTheCgalSphereScrew) {
       SweepOptions two = one;
       two.threads = 2;
       const Envelope b = sweptEnvelope(body, span, two);
-      EXPECT_EQ(b.triangles, a.triangles) << "tolerance " << rel << ", run " << run;
-      ASSERT_EQ(b.vertices.size(), a.vertices.size()) << "tolerance " << rel << ", run " << run;
-      std::size_t differ = 0;
-      for (std::size_t v = 0; v < a.vertices.size(); ++v) differ += !(b.vertices[v] == a.vertices[v]);
-      EXPECT_EQ(differ, 0u) << "vertices not bit-identical, tolerance " << rel << ", run " << run;
+      expectSameEnvelope(a, b, "tolerance " + std::to_string(rel) + ", run " + std::to_string(run));
     }
   }
 #endif
@@ -696,11 +700,7 @@ TEST(Envelope, SameEnvelopeOnOneAndTwoThreadsOnTheArmadilloScrew) {
   const Envelope a = sweptEnvelope(body, scene.span, one);
   const Envelope b = sweptEnvelope(body, scene.span, two);
   ASSERT_GT(a.pocket_mouths_filled, 1000u);
-  EXPECT_EQ(b.triangles, a.triangles);
-  ASSERT_EQ(b.vertices.size(), a.vertices.size());
-  std::size_t differ = 0;
-  for (std::size_t v = 0; v < a.vertices.size(); ++v) differ += !(b.vertices[v] == a.vertices[v]);
-  EXPECT_EQ(differ, 0u) << "vertices not bit-identical";
+  expectSameEnvelope(a, b, "one thread against two");
 #endif
 }
 
