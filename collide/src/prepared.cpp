@@ -268,11 +268,13 @@ class TreeQuery {
     double round;
     double mag;  // a bound of the coordinates met in the separating-axis tests
     // Travel along axis k of a point at y (world, middle) over the interval: at most
-    // r |v_k(y)| + rx |v(y)|. Along the path v(x(s)) = L^(s-m) v(y), and
-    // |e_k . (L^t - 1) v| <= (e^(|t| |M|) - 1) |v|, whose integral over |t| <= r is
-    // r (phi1(r |M|) - 1) = r (r |M|) phi2(r |M|) = rx. (grow = r phi1(r |M|) bounds the whole
+    // r |v_k(y)| + |M_k| rxm |v(y)|, M_k the k-th row of M. Along the path
+    // v(x(s)) = L^(s-m) v(y), and e_k . (L^t - 1) v = sum_(j>=1) t^j M_k . M^(j-1) v / j!, so
+    // |e_k . (L^t - 1) v| <= |M_k| |v| (e^(|t| |M|) - 1) / |M|, whose integral over |t| <= r is
+    // |M_k| |v| r^2 phi2(r |M|) = |M_k| |v| rxm. (An axis along which the motion is a pure
+    // translation, M_k = 0, thus travels exactly r |v_k|. grow = r phi1(r |M|) bounds the whole
     // displacement.)
-    double r, rx;
+    double r, rxm;
   };
   // A moving node (index into body_.nodes) paired with static tree nodes pool[begin, end).
   struct Entry {
@@ -326,7 +328,7 @@ class TreeQuery {
     f.mag = std::max(xmid, st_.lo.cwiseAbs().cwiseMax(st_.hi.cwiseAbs()).maxCoeff());
     f.grow = r * phi1(r * sc.mu) * kBoundSlack * (1 + 1e-12);
     f.r = r * kBoundSlack * (1 + 1e-12);
-    f.rx = r * (r * sc.mu) * phi2(r * sc.mu) * kBoundSlack * (1 + 1e-12);
+    f.rxm = r * r * phi2(r * sc.mu) * kBoundSlack * (1 + 1e-12);
     return f;
   }
 
@@ -341,7 +343,7 @@ class TreeQuery {
     Swept s;
     s.rho = ext.norm();
     const double round = margin_ + kRound * (cw.lpNorm<1>() + f.lnorm * n.chn + f.tnorm + s.rho);  // (|cw|_1 >= |cw|)
-    s.pad = f.r * (vc.cwiseAbs() + sc.row * s.rho) + Vec::Constant((vc.norm() + sc.mu * s.rho) * f.rx + round);
+    s.pad = f.r * (vc.cwiseAbs() + sc.row * s.rho) + sc.row * ((vc.norm() + sc.mu * s.rho) * f.rxm) + Vec::Constant(round);
     s.path = s.pad.maxCoeff();
     s.lo = cw - ext - s.pad;
     s.hi = cw + ext + s.pad;
@@ -366,7 +368,7 @@ class TreeQuery {
       const double vn = v.norm(), round = f.round;
       t.rad[k] = vn * f.grow + round;
       // (each axis also within the whole displacement bound rad)
-      const Vec pad = (f.r * v.cwiseAbs() + Vec::Constant(vn * f.rx + round)).cwiseMin(t.rad[k]);
+      const Vec pad = (f.r * v.cwiseAbs() + sc.row * (vn * f.rxm) + Vec::Constant(round)).cwiseMin(t.rad[k]);
       s.lo = s.lo.cwiseMin(t.mid[k] - pad);
       s.hi = s.hi.cwiseMax(t.mid[k] + pad);
       s.pad = s.pad.cwiseMax(pad);
