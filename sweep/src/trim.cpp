@@ -929,6 +929,68 @@ struct Labels {
 
 // Patches whose rays check the labels propagated across edges (spread evenly over the patches).
 constexpr std::size_t kLabelChecks = 64;
+// A cast of up to this many rays scans the faces (facesNearSegments) instead of building a box
+// hierarchy over them: the first cast has about kLabelChecks rays, and building the hierarchy
+// over bunny00's 4M arrangement faces took 40% of its label stage.
+constexpr std::size_t kRayScan = 1024;
+
+// For each segment i (seg[i][0] to seg[i][1]), the faces of T (in increasing order) whose boxes
+// may meet it when widened by widen[i]: every face whose widened box the segment meets, and a
+// few more (the faces whose boxes meet the segment's box grown by widen[i] and by a 1e-9
+// relative slack, larger than the slab test's of FaceTree::alongSegment). One pass over the
+// faces, in parallel blocks; the segments are grouped by the axis along which their boxes are
+// longest and sorted by their low end along the next axis, so that a face looks at only the
+// segments whose boxes it can reach along that axis (rays run nearly along an axis, so their
+// boxes are thin across it).
+std::vector<std::vector<int>> facesNearSegments(const std::vector<Vec>& V, const std::vector<Tri>& T,
+                                                const std::vector<std::array<Vec, 2>>& seg,
+                                                const std::vector<double>& widen, int threads) {
+  struct Needle {
+    Vec lo, hi;
+    int id;
+  };
+  std::array<std::vector<Needle>, 3> group;  // by long axis k, sorted by lo[(k + 1) % 3]
+  std::array<double, 3> thick{{0, 0, 0}};     // per group: the largest extent along (k + 1) % 3
+  Vec all_lo = Vec::Constant(HUGE_VAL), all_hi = -all_lo;
+  for (std::size_t i = 0; i < seg.size(); ++i) {
+    const Vec grow = Vec::Constant(widen[i]) + 1e-9 * ((seg[i][1] - seg[i][0]).cwiseAbs() + seg[i][0].cwiseAbs());
+    Needle n{seg[i][0].cwiseMin(seg[i][1]) - grow, seg[i][0].cwiseMax(seg[i][1]) + grow, static_cast<int>(i)};
+    int k = 0;
+    (n.hi - n.lo).maxCoeff(&k);
+    const int a = (k + 1) % 3;
+    thick[k] = std::max(thick[k], n.hi[a] - n.lo[a]);
+    all_lo = all_lo.cwiseMin(n.lo), all_hi = all_hi.cwiseMax(n.hi);
+    group[k].push_back(n);
+  }
+  for (int k = 0; k < 3; ++k)
+    std::sort(group[k].begin(), group[k].end(), [a = (k + 1) % 3](const Needle& x, const Needle& y) {
+      return x.lo[a] < y.lo[a] || (x.lo[a] == y.lo[a] && x.id < y.id);
+    });
+  // Blocks of faces, each listing its (segment, face) meetings; joined in block order.
+  constexpr std::size_t kBlock = 1 << 15;
+  const std::size_t blocks = (T.size() + kBlock - 1) / kBlock;
+  std::vector<std::vector<std::pair<int, int>>> found(blocks);
+  parallelFor(0, blocks, threads, [&](std::size_t b) {
+    for (std::size_t f = b * kBlock; f < std::min(T.size(), (b + 1) * kBlock); ++f) {
+      const Tri& t = T[f];
+      const Vec flo = V[t[0]].cwiseMin(V[t[1]]).cwiseMin(V[t[2]]), fhi = V[t[0]].cwiseMax(V[t[1]]).cwiseMax(V[t[2]]);
+      if ((flo.array() > all_hi.array()).any() || (all_lo.array() > fhi.array()).any()) continue;
+      for (int k = 0; k < 3; ++k) {
+        const int a = (k + 1) % 3;
+        const std::vector<Needle>& g = group[k];
+        auto it = std::lower_bound(g.begin(), g.end(), flo[a] - thick[k],
+                                   [a](const Needle& n, double x) { return n.lo[a] < x; });
+        for (; it != g.end() && it->lo[a] <= fhi[a]; ++it)
+          if (!((flo.array() > it->hi.array()).any() || (it->lo.array() > fhi.array()).any()))
+            found[b].emplace_back(it->id, static_cast<int>(f));
+      }
+    }
+  });
+  std::vector<std::vector<int>> met(seg.size());
+  for (const auto& list : found)
+    for (const auto& [i, f] : list) met[static_cast<std::size_t>(i)].push_back(f);
+  return met;
+}
 
 // A relation between the winding numbers on the front sides of two patches: x_p - x_q = c. A
 // step with p = -1 marks patch q as met at an edge whose faces could not be ordered.
@@ -1117,13 +1179,14 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
     if (bad[p]) bad_root[find(static_cast<int>(p))] = 1;
 
   // The faces' boxes (approximate coordinates, widened by `pad` below so that they hold the
-  // exact triangles) in a hierarchy, for the rays.
+  // exact triangles), for the rays: a hierarchy, built only for a cast of more than kRayScan
+  // rays (see castRays).
   Vec lo = Vec::Constant(HUGE_VAL), hi = -lo;
   for (const Vec& x : approx) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
   const double size = (hi - lo).norm() + 1.0;
   const double pad = 1e-9 * size;
   detail::FaceTree tree;
-  tree.build(approx, T, options.threads);
+  bool tree_built = false;
 
   // Rays: origin inside the representative face, end outside the scene's box.
   struct Ray {
@@ -1230,14 +1293,27 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
         const std::size_t c1 = std::min(todo.size(), c0 + kChunk);
         rays.clear();
         for (std::size_t i = c0; i < c1; ++i) rays.push_back(makeRay(todo[i], round == 0));
-        parallelFor(0, rays.size(), options.threads, [&](std::size_t i) {
-          Ray& r = rays[i];
-          const CGAL::Bbox_3 b = r.from.bbox();
-          const Vec from(0.5 * (b.xmin() + b.xmax()), 0.5 * (b.ymin() + b.ymax()), 0.5 * (b.zmin() + b.zmax()));
-          const Vec to(CGAL::to_double(r.to.x()), CGAL::to_double(r.to.y()), CGAL::to_double(r.to.z()));
-          const double width = std::max({b.xmax() - b.xmin(), b.ymax() - b.ymin(), b.zmax() - b.zmin()});
-          tree.alongSegment(from, to, 2 * pad + width, [&](int f) { meet(r, static_cast<std::size_t>(f)); });
-        });
+        // Each ray's segment in doubles and the width its faces' boxes are widened by (its
+        // origin's interval box adds its own width).
+        std::vector<std::array<Vec, 2>> seg(rays.size());
+        std::vector<double> widen(rays.size());
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+          const CGAL::Bbox_3 b = rays[i].from.bbox();
+          seg[i][0] = Vec(0.5 * (b.xmin() + b.xmax()), 0.5 * (b.ymin() + b.ymax()), 0.5 * (b.zmin() + b.zmax()));
+          seg[i][1] = Vec(CGAL::to_double(rays[i].to.x()), CGAL::to_double(rays[i].to.y()), CGAL::to_double(rays[i].to.z()));
+          widen[i] = 2 * pad + std::max({b.xmax() - b.xmin(), b.ymax() - b.ymin(), b.zmax() - b.zmin()});
+        }
+        if (rays.size() > kRayScan) {
+          if (!tree_built) tree.build(approx, T, options.threads), tree_built = true;
+          parallelFor(0, rays.size(), options.threads, [&](std::size_t i) {
+            tree.alongSegment(seg[i][0], seg[i][1], widen[i], [&](int f) { meet(rays[i], static_cast<std::size_t>(f)); });
+          });
+        } else {
+          const std::vector<std::vector<int>> met = facesNearSegments(approx, T, seg, widen, options.threads);
+          parallelFor(0, rays.size(), options.threads, [&](std::size_t i) {
+            for (const int f : met[i]) meet(rays[i], static_cast<std::size_t>(f));
+          });
+        }
         for (std::size_t r = 0; r < rays.size(); ++r) {
           const int p = todo[c0 + r];
           if (rays[r].degenerate) {
