@@ -2048,11 +2048,12 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
 // Closes the surface where buried patches were left out: a pocket that opened to the outside
 // leaves a thin mouth, loops of edges with one face. The unmatched edges are followed into
 // simple loops (a vertex met again closes the loop from its first visit), and each loop is
-// triangulated (see kCubicHoleFilling); the new faces run against the loop, so the
-// surface is closed again. Returns the number of loops filled, or -1 (and leaves T alone) when
-// some edge path does not close, some loop cannot be filled, a filling face would leave an
-// edge with other than two faces, or a filling face crosses the surface or another filling
-// face; `trouble` then holds the vertices of every such path and loop.
+// triangulated (see kCubicHoleFilling), or else fanned around a new point (see Fans); the
+// new faces run against the loop, so the surface is closed again. Returns the number of loops
+// filled (the new points appended to V), or -1 (and leaves V and T alone) when some edge path
+// does not close, some loop cannot be filled, a filling face would leave an edge with other
+// than two faces, or a filling face crosses the surface or another filling face; `trouble` then
+// holds the vertices of every such path and loop.
 // Loops of up to this many points are filled by a search over all triangulations of the
 // polygon (cubic in its size: about 3e5 candidate triangles at this size): CGAL's first, then,
 // for the loops whose filling is bad, fillMouths' own (refillLoop), which leaves out the
@@ -2081,8 +2082,15 @@ constexpr int kRefillSearches = 8;
 // s with the Delaunay refill), with nearly the same envelope (8,475 crack faces left out
 // instead of 8,542). Elephant screw at 1e-3: 1.84 and 1.76 s (1.60 s).
 constexpr std::size_t kRefillPoints = 32;
+// Fans: a loop of up to kCubicHoleFilling points whose filling is still bad after the refill
+// (or that has more points than the refill takes) is fanned around a new point, the mean of
+// its points. A fan has no diagonal, so it cannot repeat an edge of the surface: nearly all
+// the loops that failed before had no triangulation without such a diagonal (the surface
+// crosses the mouth). It is checked like any filling. When such a loop failed, the crack
+// walls and buried patches at it were kept, inside the swept volume (test_envelope.cpp's
+// CrackMouthsThatOnlyAFanCanClose: 5.05 ε deep).
 
-long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>& trouble, int threads) {
+long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>& trouble, int threads) {
   // Per undirected edge: how many faces use it and the net direction (a < b positive), by a
   // sort of every face's edges (faster than hashing here: this runs once per selection round).
   struct EdgeUse {
@@ -2164,8 +2172,11 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
     if (patch.size() != loop.size() - 2) return;
     for (const auto& x : patch) fill[l].push_back({{loop[x.first], loop[x.third], loop[x.second]}});
   };
+  // (room for the fans' points, so that appending them moves no point the tree refers to)
+  const std::size_t old_points = V.size();
+  V.reserve(old_points + loops.size());
   std::vector<IPoint> P;
-  P.reserve(V.size());
+  P.reserve(V.capacity());
   for (const Vec& x : V) P.emplace_back(x.x(), x.y(), x.z());
   detail::FaceTree surface;
   surface.build(V, T, threads);
@@ -2296,9 +2307,10 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
     }
   };
   // Short loops are filled first by CGAL's search over all their triangulations; those it
-  // fills badly are filled again by refillLoop (up to kRefillPoints points). Both choose the
-  // same filling on every run. Longer loops stay unfilled, hence bad (see kCubicHoleFilling).
-  // (Each search fills its own loop: they run in parallel.)
+  // fills badly are filled again by refillLoop (up to kRefillPoints points); those still bad
+  // are fanned (see Fans). All choose the same filling on every run. Longer loops stay
+  // unfilled, hence bad (see kCubicHoleFilling). (Each search fills its own loop: they run in
+  // parallel.)
   parallelFor(0, loops.size(), threads, [&](std::size_t l) {
     if (loops[l].size() <= kCubicHoleFilling) fillLoop(l);
   });
@@ -2313,10 +2325,30 @@ long fillMouths(const std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>
     if (fresh[l]) refillLoop(l);
   });
   if (again) bad = badLoops(fresh);
+  // The fans, their new points numbered in loop order.
+  again = false;
+  for (std::size_t l = 0; l < loops.size(); ++l) {
+    fresh[l] = bad[l] && loops[l].size() >= 3 && loops[l].size() <= kCubicHoleFilling;
+    if (!fresh[l]) continue;
+    again = true;
+    const std::vector<int>& loop = loops[l];
+    Vec mean = Vec::Zero();
+    for (int v : loop) mean += V[v];
+    mean /= static_cast<double>(loop.size());
+    const int apex = static_cast<int>(V.size());
+    V.push_back(mean);
+    P.emplace_back(mean.x(), mean.y(), mean.z());
+    fill[l].clear();
+    for (std::size_t i = 0; i < loop.size(); ++i) fill[l].push_back({{loop[(i + 1) % loop.size()], loop[i], apex}});
+  }
+  if (again) bad = badLoops(fresh);
   // Every loop that still cannot be filled is reported at once.
   for (std::size_t l = 0; l < loops.size(); ++l)
     if (bad[l]) fail(loops[l]);
-  if (!trouble.empty()) return -1;
+  if (!trouble.empty()) {
+    V.resize(old_points);
+    return -1;
+  }
   T.insert(T.end(), added.begin(), added.end());
   return static_cast<long>(loops.size());
 }
