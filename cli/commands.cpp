@@ -832,6 +832,8 @@ SweepOutput sweepCommand(const SweepRequest& request) {
   report["thin_solids_removed"] = envelope.thin_solids_removed;
   report["buried_patches_removed"] = envelope.buried_patches_removed;
   report["crack_faces_removed"] = envelope.crack_faces_removed;
+  report["buried_patches_kept"] = envelope.buried_patches_kept;
+  report["crack_faces_kept"] = envelope.crack_faces_kept;
   report["pocket_mouths_filled"] = envelope.pocket_mouths_filled;
   report["rounding_merged"] = envelope.rounding_merged;
   report["pinched_vertices_split"] = envelope.pinched_vertices_split;

@@ -2443,6 +2443,7 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
   // closed never cost the removal of buried patches that could be); after kMouthRounds more,
   // none are left out.
   const std::vector<char> buried_found = buried;
+  const auto crack_found = static_cast<std::size_t>(std::count(crack.begin(), crack.end(), 1));
   long mouths = 0;
   for (int round = 0;; ++round) {
     select();
@@ -2491,6 +2492,9 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
   }
   env.buried_patches_removed = static_cast<std::size_t>(std::count(buried.begin(), buried.end(), 1));
   env.crack_faces_removed = static_cast<std::size_t>(std::count(crack.begin(), crack.end(), 1));
+  env.buried_patches_kept =
+      static_cast<std::size_t>(std::count(buried_found.begin(), buried_found.end(), 1)) - env.buried_patches_removed;
+  env.crack_faces_kept = crack_found - env.crack_faces_removed;
   env.pocket_mouths_filled = mouths < 0 ? 0 : static_cast<std::size_t>(mouths);
   // Rounding: exact points that differ by a few units in the last place (e.g. input noise of
   // 1e-17 carried through exact constructions) round to points that make slivers cross. Merge

@@ -596,8 +596,9 @@ TEST(Envelope, CrackMouthsThatOnlyAFanCanClose) {
   EXPECT_GE(n.checked, 30) << "the box no longer holds the vertices about the crack mouth";
   EXPECT_EQ(n.failed, 0);
   EXPECT_LE(n.undecided, n.checked / 50) << "envelope vertices the oracle could not decide within its budget";
-  std::printf("[ info     ] sphere screw crack mouths: %d vertices checked, %d fail, %d undecided, %zu mouths filled\n",
-              n.checked, n.failed, n.undecided, env.pocket_mouths_filled);
+  std::printf("[ info     ] sphere screw crack mouths: %d vertices checked, %d fail, %d undecided, %zu mouths filled, "
+              "kept: %zu buried patches, %zu crack faces\n",
+              n.checked, n.failed, n.undecided, env.pocket_mouths_filled, env.buried_patches_kept, env.crack_faces_kept);
 }
 
 // Expects envelope b to be a, bit for bit (triangles, then every vertex's doubles); `what`
@@ -628,6 +629,8 @@ TEST(Envelope, SameEnvelopeOnAnyNumberOfThreads) {
     EXPECT_EQ(b.arrangement_triangles, a.arrangement_triangles) << threads << " threads";
     EXPECT_EQ(b.buried_patches_removed, a.buried_patches_removed) << threads << " threads";
     EXPECT_EQ(b.crack_faces_removed, a.crack_faces_removed) << threads << " threads";
+    EXPECT_EQ(b.buried_patches_kept, a.buried_patches_kept) << threads << " threads";
+    EXPECT_EQ(b.crack_faces_kept, a.crack_faces_kept) << threads << " threads";
     expectSameEnvelope(a, b, std::to_string(threads) + " threads");
   }
   SweepOptions bad;

@@ -27,7 +27,9 @@
 /// removed and their mouths closed (Envelope::buried_patches_removed); so are the walls of such
 /// layers that reach the envelope and are joined to its outer patches, found face by face
 /// (Envelope::crack_faces_removed). So every envelope vertex lies within ε of the true
-/// boundary, and every posed body point lies inside the envelope or within ε of it.
+/// boundary, and every posed body point lies inside the envelope or within ε of it, except
+/// near pockets and cracks whose mouths could not be closed: those are kept and counted
+/// (Envelope::buried_patches_kept, crack_faces_kept), and may lie deeper than ε inside.
 
 #include <steady/core/motion.hpp>
 #include <steady/sweep/body.hpp>
@@ -146,6 +148,12 @@ struct Envelope {
   /// face is such a wall when a probe 0.75 ε long from its centroid or a corner towards its
   /// empty side meets a selected face facing it and ends inside the swept volume.
   std::size_t crack_faces_removed = 0;
+  /// Buried patches and crack walls found as above but kept, because the mouths that leaving
+  /// them out would open could not be closed (the envelope must stay closed): patches, and
+  /// faces. They lie inside the swept volume, so near them an envelope vertex may lie deeper
+  /// than ε inside it; where both are 0, every buried patch and crack wall found is gone.
+  std::size_t buried_patches_kept = 0;
+  std::size_t crack_faces_kept = 0;  ///< (see buried_patches_kept)
   /// Mouths of such pockets and cracks (loops of edges left with one face) closed by hole filling.
   std::size_t pocket_mouths_filled = 0;
   /// Vertices merged after rounding because they lay within 1e-13 times the envelope's box
