@@ -2340,6 +2340,12 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, std::vector<int>& trou
     P.emplace_back(mean.x(), mean.y(), mean.z());
     fill[l].clear();
     for (std::size_t i = 0; i < loop.size(); ++i) fill[l].push_back({{loop[(i + 1) % loop.size()], loop[i], apex}});
+    // (a collinear fan face is no filling: the loop stays bad)
+    for (const Tri& t : fill[l])
+      if (CGAL::collinear(P[t[0]], P[t[1]], P[t[2]])) {
+        fill[l].clear();
+        break;
+      }
   }
   if (again) bad = badLoops(fresh);
   // Every loop that still cannot be filled is reported at once.
