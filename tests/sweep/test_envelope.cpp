@@ -18,6 +18,7 @@
 #include <steady/sweep/inside.hpp>
 
 #include "sweep/envelope_check.hpp"
+#include "sweep/envelope_oracle.hpp"
 #include "sweep/sweep_test.hpp"
 
 #include <steady/core/motion.hpp>
@@ -42,161 +43,6 @@ using steady::sweep::SweepOptions;
 using steady::sweep::sweptEnvelope;
 using steady::sweep::SweptVolume;
 using namespace steady_sweep_test;
-
-
-// At most this many failure messages per check and case (the counts are always reported).
-constexpr int kMaxMessages = 5;
-
-struct CheckOptions {
-  int containment_points = 240;  // posed body vertices (and as many face points / 4) tested
-  int boundary_vertices = 120;   // envelope vertices tested against the true boundary
-  int cross_points = 100;        // points compared with SweptVolume
-  int expected_shells = 1;
-  int expected_euler = 2;        // V - E + F of the envelope (2: a sphere; 0: a torus); 99: unchecked
-};
-
-// Every check of one envelope; failures are reported with their numbers.
-void checkEnvelope(const Mesh& mesh, const Motion3& motion, const Envelope& env, double eps_expected,
-                   std::mt19937_64& rng, const std::string& name, const CheckOptions& co = {}) {
-  SCOPED_TRACE(name);
-  const Body body = makeBody(mesh);
-  const MovingBody mb(mesh, motion);
-  const std::vector<V>& ev = env.vertices;
-  const Faces& ef = env.triangles;
-  ASSERT_FALSE(ef.empty()) << "empty envelope";
-  const V lo = boxLo(ev), hi = boxHi(ev);
-  const double scale = (hi - lo).norm();
-  const double eps = env.tolerance;
-
-  // The tolerance used: relative_tolerance times the body's box diagonal, or as given.
-  EXPECT_NEAR(eps, eps_expected, 1e-12 * eps_expected);
-  EXPECT_EQ(env.cycle_open_edges, 0u) << "the sweep cycle is not closed";
-
-  // Topology, by the library's inspectMesh and by our own directed-edge count.
-  const MeshCheck mc = inspectMesh(ev, ef, true);
-  EXPECT_TRUE(mc.closed);
-  EXPECT_TRUE(mc.manifold);
-  EXPECT_TRUE(mc.oriented);
-  EXPECT_EQ(mc.self_intersections, 0);
-  EXPECT_EQ(mc.shells, co.expected_shells) << componentSummary(ev, ef);
-  EXPECT_GT(mc.volume, 0);
-  const std::string edges = directedEdgeFaults(ef, ev.size());
-  EXPECT_EQ(edges, "") << "directed edges";
-  std::vector<char> used(ev.size(), 0);
-  for (const auto& t : ef)
-    for (int k : t) used[static_cast<std::size_t>(k)] = 1;
-  EXPECT_EQ(std::count(used.begin(), used.end(), 0), 0) << "unused envelope vertices";
-  if (co.expected_euler != 99 && edges.empty()) {
-    const long euler = static_cast<long>(ev.size()) - static_cast<long>(3 * ef.size() / 2) + static_cast<long>(ef.size());
-    EXPECT_EQ(euler, co.expected_euler) << "Euler characteristic V - E + F";
-  }
-  // Winding numbers cross the edges where patches meet; rays label one patch per connected
-  // group and a check sample of 64, whose rays must agree (a disagreement rays the whole group).
-  EXPECT_LE(env.patches_by_ray, std::min<std::size_t>(env.patches, 64 + co.expected_shells + 2))
-      << "labels propagated across edges disagreed with their check rays";
-  // The reported measures against our own.
-  const double vol = meshVolume(ev, ef), area = meshArea(ev, ef);
-  EXPECT_NEAR(env.volume, vol, 1e-9 * std::abs(vol));
-  EXPECT_NEAR(env.area, area, 1e-9 * area);
-  EXPECT_NEAR(mc.volume, vol, 1e-9 * std::abs(vol));
-  // The swept volume holds the body at every time: at least the largest posed volume (minus ε A).
-  double posed_max = 0;
-  for (std::size_t s = 0; s < motion.spanCount(); ++s)
-    for (const double tau : {0.0, 0.5, 1.0}) posed_max = std::max(posed_max, meshVolume(mb.posed(s, tau), mesh.f));
-  EXPECT_GE(vol, posed_max - eps * area) << "envelope volume below a posed body's volume";
-
-  // Containment: posed body vertices (and face points) lie inside the envelope or within ε.
-  int checked = 0, failed = 0;
-  double worst = 0;
-  const int face_points = co.containment_points / 4;
-  for (int n = 0; n < co.containment_points + face_points; ++n) {
-    const std::size_t s = rng() % motion.spanCount();
-    const double tau = n % 7 == 0 ? (n % 2 ? 0.0 : 1.0) : uniform(rng, 0, 1);
-    const std::vector<V> w = mb.posed(s, tau);
-    V x;
-    if (n < co.containment_points) {
-      x = w[rng() % w.size()];
-    } else {
-      const auto& f = mesh.f[rng() % mesh.f.size()];
-      double b0 = uniform(rng, 0, 1), b1 = uniform(rng, 0, 1);
-      if (b0 + b1 > 1) b0 = 1 - b0, b1 = 1 - b1;
-      x = w[f[0]] + b0 * (w[f[1]] - w[f[0]]) + b1 * (w[f[2]] - w[f[0]]);
-    }
-    ++checked;
-    if (windingNumber(ev, ef, x) >= 0.5) continue;
-    const double d = meshDistance(ev, ef, x);
-    worst = std::max(worst, d / eps);
-    if (d > eps * (1 + 1e-6) + 1e-12 * scale) {
-      if (++failed <= kMaxMessages)
-        ADD_FAILURE() << "posed body point " << x.transpose() << " (span " << s << ", tau " << tau
-                      << ") is outside the envelope by " << d << " = " << d / eps << " eps";
-    }
-  }
-  // The true boundary: every envelope vertex (a sample) has min over time of its signed distance
-  // to the posed body within [-T, T], T = ε (+1% for the branch and bound's resolution): it is
-  // within ε of some posed body, and never deeper than ε inside one (not interior).
-  const double T = eps * 1.01 + 1e-9 * scale;
-  int bchecked = 0, bfailed = 0, bundecided = 0;
-  double bworst = 0;
-  std::vector<std::size_t> order(ev.size());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::shuffle(order.begin(), order.end(), rng);
-  order.resize(std::min<std::size_t>(order.size(), static_cast<std::size_t>(co.boundary_vertices)));
-  for (const std::size_t i : order) {
-    const V& x = ev[i];
-    const MinBracket b = minSignedDistance(
-        mb, x, [&](double blo, double bhi) { return (bhi <= T && blo >= -T) || blo > T || bhi < -T; }, 6000);
-    ++bchecked;
-    if (b.lo > T || b.hi < -T) {
-      const double off = b.lo > T ? b.lo : b.hi;
-      bworst = std::max(bworst, std::abs(off) / eps);
-      if (++bfailed <= kMaxMessages)
-        ADD_FAILURE() << "envelope vertex " << i << " at " << x.transpose()
-                      << (b.lo > T ? " is farther than " : " is deeper than ") << std::abs(off) << " = "
-                      << std::abs(off) / eps << " eps " << (b.lo > T ? "from every posed body" : "inside the body posed at span ")
-                      << (b.lo > T ? "" : std::to_string(b.span) + " tau " + std::to_string(b.tau)) << " (not on the boundary)";
-    } else if (!(b.hi <= T && b.lo >= -T)) {
-      ++bundecided;
-    } else {
-      bworst = std::max(bworst, std::max(std::abs(b.hi), 0.0) / eps);
-    }
-  }
-  EXPECT_LE(bundecided, bchecked / 50) << "envelope vertices the oracle could not decide within its budget";
-
-  // Cross-check with the inside test on points farther than 3 ε from the envelope.
-  const SweptVolume sv(body, motion);
-  int cchecked = 0, cmismatch = 0;
-  const V pad = 0.1 * (hi - lo);
-  for (int n = 0; n < co.cross_points; ++n) {
-    const V x(uniform(rng, lo.x() - pad.x(), hi.x() + pad.x()), uniform(rng, lo.y() - pad.y(), hi.y() + pad.y()),
-              uniform(rng, lo.z() - pad.z(), hi.z() + pad.z()));
-    if (meshDistance(ev, ef, x) <= 3 * eps) continue;
-    ++cchecked;
-    const bool in_env = windingNumber(ev, ef, x) >= 0.5;
-    const bool in_sv = sv.contains(x);
-    if (in_env == in_sv) continue;
-    const MinBracket b = minSignedDistance(
-        mb, x, [&](double blo, double bhi) { return bhi < -eps || blo > eps; }, 20000);
-    const char* truth = b.hi < -eps ? "inside" : (b.lo > eps ? "outside" : "undecided");
-    if (++cmismatch <= kMaxMessages)
-      ADD_FAILURE() << "point " << x.transpose() << ": envelope says " << (in_env ? "inside" : "outside")
-                    << ", SweptVolume says " << (in_sv ? "inside" : "outside") << ", the oracle says " << truth
-                    << " (min signed distance in [" << b.lo << ", " << b.hi << "], eps " << eps << ")";
-  }
-  std::printf("[ info     ] %-26s %6zu tri  eps %.2e  V %.5f  A %.4f  %.2fs | outside-by <= %.3f eps (%d/%d fail) | "
-              "boundary <= %.3f eps (%d/%d fail, %d undecided) | cross %d/%d mismatch | buried patches %zu, mouths %zu\n",
-              name.c_str(), ef.size(), eps, vol, area, env.timings.total, worst, failed, checked, bworst, bfailed, bchecked,
-              bundecided, cmismatch, cchecked, env.buried_patches_removed, env.pocket_mouths_filled);
-}
-
-// The envelope of `mesh` along `motion` with default options (plus the given tolerance), and
-// its expected ε.
-Envelope sweep(const Mesh& mesh, const Motion3& motion, double relative = 1e-3) {
-  SweepOptions o;
-  o.relative_tolerance = relative;
-  return sweptEnvelope(makeBody(mesh), motion, o);
-}
-double epsOf(const Mesh& mesh, double relative = 1e-3) { return relative * makeBody(mesh).box().diagonal(); }
 
 // ---- analytic volumes --------------------------------------------------------------------------
 
@@ -466,35 +312,6 @@ TEST(Envelope, FaceThroughTheScrewAxisOnAPolySamIsClosedAndEmbedded) {
   EXPECT_EQ(env.cycle_open_edges, 0u);
   expectOneEmbeddedShell(env);
   EXPECT_EQ(directedEdgeFaults(env.triangles, env.vertices.size()), "");
-}
-
-// The envelope vertices inside the box [lo, hi] under the certified oracle: each must be within
-// T = 1.01 eps of the true boundary (within T of some posed body and never deeper than T inside
-// one; the 1% is the oracle's resolution, as in checkEnvelope). Reports each failure (up to
-// kMaxMessages) and returns the counts.
-struct NearCheck {
-  int checked = 0, failed = 0, undecided = 0;
-};
-NearCheck checkVerticesInBox(const Envelope& env, const MovingBody& mb, const V& lo, const V& hi) {
-  const double eps = env.tolerance;
-  const double T = eps * 1.01;
-  NearCheck c;
-  for (std::size_t i = 0; i < env.vertices.size(); ++i) {
-    const V& x = env.vertices[i];
-    if ((x.array() < lo.array()).any() || (x.array() > hi.array()).any()) continue;
-    ++c.checked;
-    const MinBracket b = minSignedDistance(
-        mb, x, [&](double blo, double bhi) { return (bhi <= T && blo >= -T) || blo > T || bhi < -T; }, 6000);
-    if (b.lo > T || b.hi < -T) {
-      if (++c.failed <= kMaxMessages)
-        ADD_FAILURE() << "envelope vertex " << i << " at " << x.transpose() << " is "
-                      << (b.lo > T ? "farther than " + std::to_string(b.lo / eps) + " eps from every posed body"
-                                   : std::to_string(-b.hi / eps) + " eps inside the body posed at tau " + std::to_string(b.tau));
-    } else if (!(b.hi <= T && b.lo >= -T)) {
-      ++c.undecided;
-    }
-  }
-  return c;
 }
 
 // The first span of the polySAM above alone: a quarter turn about the z axis that rises by 2.5
