@@ -196,9 +196,9 @@ inline double minkowskiDepth(const V& x, const V& lo, const V& hi, const V& d) {
   return best;
 }
 
-// Connected components of a triangle mesh through shared (undirected) edges: for each, its
-// triangle count, signed volume and area, largest first ("n tri, V, A; ...").
-inline std::string componentSummary(const std::vector<V>& v, const Faces& f, std::size_t max_listed = 6) {
+// Connected components of a triangle mesh through shared (undirected) edges, largest (most
+// triangles) first.
+inline std::vector<Faces> edgeComponents(const Faces& f) {
   std::vector<int> parent(f.size());
   for (std::size_t i = 0; i < f.size(); ++i) parent[i] = static_cast<int>(i);
   auto root = [&](int x) {
@@ -214,9 +214,17 @@ inline std::string componentSummary(const std::vector<V>& v, const Faces& f, std
     }
   std::map<int, Faces> comps;
   for (std::size_t i = 0; i < f.size(); ++i) comps[root(static_cast<int>(i))].push_back(f[i]);
+  std::vector<Faces> out;
+  for (auto& [r, tris] : comps) out.push_back(std::move(tris));
+  std::sort(out.begin(), out.end(), [](const Faces& a, const Faces& b) { return a.size() > b.size(); });
+  return out;
+}
+
+// The connected components (edgeComponents): for each, its triangle count, signed volume and
+// area, largest first ("n tri, V, A; ...").
+inline std::string componentSummary(const std::vector<V>& v, const Faces& f, std::size_t max_listed = 6) {
   std::vector<std::tuple<std::size_t, double, double>> rows;
-  for (const auto& [r, tris] : comps) rows.emplace_back(tris.size(), meshVolume(v, tris), meshArea(v, tris));
-  std::sort(rows.begin(), rows.end(), [](const auto& a, const auto& b) { return std::get<0>(a) > std::get<0>(b); });
+  for (const Faces& tris : edgeComponents(f)) rows.emplace_back(tris.size(), meshVolume(v, tris), meshArea(v, tris));
   std::string out = std::to_string(rows.size()) + " components:";
   char buf[128];
   for (std::size_t i = 0; i < rows.size() && i < max_listed; ++i) {
