@@ -1,6 +1,6 @@
 // Seeded stress campaign of the swept envelope: random cases (a mesh, a random motion of one of
 // five kinds, a tolerance) through the checks of the envelope tests (envelope_oracle.hpp), one
-// log line per case. Not a ctest test: the 1,800 cases of the campaign take about ten minutes
+// log line per case. Not a ctest test: the 1,800 cases of the campaign take about six minutes
 // on two cores. scripts/stress-sweep.sh runs a range of cases, each in its own process with a
 // time limit (a crash or a hang loses that case only), and summarises the log.
 //
