@@ -234,11 +234,13 @@ const char* article(MeshFormat f) { return f == MeshFormat::Ply ? "a" : "an"; }
 
 // OpenMesh's OFF reader accepts truncated files (repeating the last face) and misreads comment
 // lines without an error, so text OFF files are checked here first: the structure the header
-// announces, line by line. The announced counts are compared with what OpenMesh reads.
+// announces, line by line. The announced counts are compared with what OpenMesh reads. The
+// coordinates are kept as parsed here, in double: OpenMesh 9's OFF reader rounds them to float.
 struct OffHeader {
   bool checked = false;  // a text OFF file with the plain "OFF" keyword
   std::size_t vertices = 0, faces = 0;
   bool comments = false;
+  std::vector<Eigen::Vector3d> points;  // (when checked) every vertex, in file order
 };
 
 OffHeader checkTextOff(const std::string& path) {
@@ -270,9 +272,10 @@ OffHeader checkTextOff(const std::string& path) {
     const auto r = std::from_chars(t.data(), t.data() + t.size(), out);
     return r.ec == std::errc() && r.ptr == t.data() + t.size();
   };
-  const auto real = [&](const std::string& t) {
+  // (strtod: the double nearest to the decimal, as writeMesh's shortest form requires)
+  const auto real = [&](const std::string& t, double& x) {
     char* end = nullptr;
-    const double x = std::strtod(t.c_str(), &end);
+    x = std::strtod(t.c_str(), &end);
     return end == t.c_str() + t.size() && std::isfinite(x);
   };
   if (!next()) {
@@ -286,10 +289,13 @@ OffHeader checkTextOff(const std::string& path) {
   long long nv = -1, nf = -1;
   if (tokens.size() < 2 || !integer(tokens[0], nv) || !integer(tokens[1], nf) || nv < 0 || nf < 0)
     bad("expected the counts 'vertices faces edges', got '" + line + "'");
+  h.points.reserve(static_cast<std::size_t>(std::min<long long>(nv, 1 << 24)));
   for (long long i = 0; i < nv; ++i) {
     if (!next()) bad("the file ends after " + std::to_string(i) + " of the " + std::to_string(nv) + " vertices it announces");
-    if (tokens.size() < 3 || !real(tokens[0]) || !real(tokens[1]) || !real(tokens[2]))
+    Eigen::Vector3d x;
+    if (tokens.size() < 3 || !real(tokens[0], x.x()) || !real(tokens[1], x.y()) || !real(tokens[2], x.z()))
       bad("expected vertex " + std::to_string(i) + " as three finite numbers 'x y z', got '" + line + "'");
+    h.points.push_back(x);
   }
   for (long long i = 0; i < nf; ++i) {
     if (!next()) bad("the file ends after " + std::to_string(i) + " of the " + std::to_string(nf) + " faces it announces");
@@ -395,7 +401,8 @@ TriangleMesh readMesh(const std::string& path) {
                                      std::to_string(collected.bad_faces) + " faces do)");
 
   TriangleMesh mesh;
-  mesh.vertices = std::move(collected.points);
+  // (a text OFF file's own coordinates, in double; OpenMesh read the same count, in float)
+  mesh.vertices = off.checked ? std::move(off.points) : std::move(collected.points);
   for (const std::vector<int>& poly : collected.polygons)
     for (std::size_t i = 1; i + 1 < poly.size(); ++i) mesh.faces.push_back({poly[0], poly[i], poly[i + 1]});
   if (mesh.faces.empty())

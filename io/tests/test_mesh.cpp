@@ -73,7 +73,8 @@ TriangleMesh awkwardBox() {
   return m;
 }
 
-// OpenMesh 9's readers hold coordinates as 32-bit floats: agreement to float precision.
+// OpenMesh 9's readers hold coordinates as 32-bit floats (text OFF aside, read in double):
+// agreement to float precision.
 void expectNear(const Eigen::Vector3d& got, const Eigen::Vector3d& want, const std::string& what) {
   for (int k = 0; k < 3; ++k)
     EXPECT_NEAR(got(k), want(k), 1.2e-7 * std::abs(want(k)) + 1e-300) << what << " coordinate " << k;
@@ -124,6 +125,26 @@ TEST_F(MeshIo, TextFormatsKeepEveryDigit) {
     EXPECT_NE(text.find("-2500000"), std::string::npos) << name;
     EXPECT_NE(text.find("1e-05"), std::string::npos) << name;
   }
+}
+
+// A text OFF file is read in double: what writeMesh wrote (the shortest decimal of each
+// double) comes back bit for bit, 0.1 and 1/3 included (OpenMesh's reader alone rounds them
+// to float, 1e-9 away).
+TEST_F(MeshIo, TextOffReadsBackEveryDoubleExactly) {
+  const TriangleMesh box = awkwardBox();
+  steady::io::writeMesh(path("box.off"), box);
+  const TriangleMesh back = steady::io::readMesh(path("box.off"));
+  ASSERT_EQ(back.vertices.size(), box.vertices.size());
+  for (std::size_t i = 0; i < box.vertices.size(); ++i)
+    EXPECT_TRUE(back.vertices[i] == box.vertices[i]) << "vertex " << i << ": " << back.vertices[i].transpose();
+  EXPECT_EQ(back.faces, box.faces);
+  // Written by hand, with extra columns (colours) after x y z and a polygon.
+  writeText("hand.off", "OFF\n4 1 0\n0.1 0.2 0.3 1 0 0\n1e-300 -7 2.5\n1 1 1\n0 1 0\n4 0 1 2 3\n");
+  const TriangleMesh hand = steady::io::readMesh(path("hand.off"));
+  ASSERT_EQ(hand.vertices.size(), 4u);
+  EXPECT_TRUE(hand.vertices[0] == Eigen::Vector3d(0.1, 0.2, 0.3)) << hand.vertices[0].transpose();
+  EXPECT_TRUE(hand.vertices[1] == Eigen::Vector3d(1e-300, -7, 2.5)) << hand.vertices[1].transpose();
+  EXPECT_EQ(hand.faces.size(), 2u);
 }
 
 TEST_F(MeshIo, BinaryPlyHoldsExactDoubles) {

@@ -9,8 +9,8 @@
 //                                               one case by its parameters; the files (as
 //                                               written by --repro-dir) replace the generated
 //                                               mesh or motion, the seed still seeds the checks
-//                                               (readMesh reads floats: only the generated mesh
-//                                               repeats a case bit for bit)
+//                                               (a text OFF mesh file is read in double, so
+//                                               it repeats the case bit for bit)
 //   --dense          denser checks (480 posed points, 400 envelope vertices, 300 cross points)
 //   --all-vertices   also every envelope vertex against the true boundary, not only a sample
 //   --repro-dir DIR  for each failing case, its motion (a motion file, every key pose at full
