@@ -318,6 +318,28 @@ OffHeader checkTextOff(const std::string& path) {
   return h;
 }
 
+// The coordinates of an OBJ file's vertices ("v x y z ..." lines, in file order), in double:
+// OpenMesh 9's OBJ reader rounds them to float. Empty when some "v" line does not start with
+// three finite numbers: OpenMesh's reading then stands (it skips such lines).
+std::vector<Eigen::Vector3d> objVertices(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::vector<Eigen::Vector3d> points;
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream words(line);
+    std::string key;
+    if (!(words >> key) || key != "v") continue;
+    Eigen::Vector3d x;
+    for (int k = 0; k < 3; ++k) {
+      std::string t;
+      char* end = nullptr;
+      if (!(words >> t) || (x[k] = std::strtod(t.c_str(), &end), end != t.c_str() + t.size()) || !std::isfinite(x[k]))
+        return {};
+    }
+    points.push_back(x);
+  }
+  return points;
+}
+
 // A binary STL (not starting with "solid") must be 84 + 50 n bytes long for its n triangles.
 void checkBinaryStlSize(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -401,8 +423,12 @@ TriangleMesh readMesh(const std::string& path) {
                                      std::to_string(collected.bad_faces) + " faces do)");
 
   TriangleMesh mesh;
-  // (a text OFF file's own coordinates, in double; OpenMesh read the same count, in float)
-  mesh.vertices = off.checked ? std::move(off.points) : std::move(collected.points);
+  // (a text OFF or OBJ file's own coordinates, in double, where there are as many as OpenMesh
+  // read, in float)
+  std::vector<Eigen::Vector3d> exact = off.checked ? std::move(off.points)
+                                       : format == MeshFormat::Obj ? objVertices(path)
+                                                                   : std::vector<Eigen::Vector3d>();
+  mesh.vertices = exact.size() == collected.points.size() ? std::move(exact) : std::move(collected.points);
   for (const std::vector<int>& poly : collected.polygons)
     for (std::size_t i = 1; i + 1 < poly.size(); ++i) mesh.faces.push_back({poly[0], poly[i], poly[i + 1]});
   if (mesh.faces.empty())

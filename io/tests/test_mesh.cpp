@@ -73,8 +73,8 @@ TriangleMesh awkwardBox() {
   return m;
 }
 
-// OpenMesh 9's readers hold coordinates as 32-bit floats (text OFF aside, read in double):
-// agreement to float precision.
+// OpenMesh 9's readers hold coordinates as 32-bit floats (text OFF and OBJ aside, read in
+// double): agreement to float precision.
 void expectNear(const Eigen::Vector3d& got, const Eigen::Vector3d& want, const std::string& what) {
   for (int k = 0; k < 3; ++k)
     EXPECT_NEAR(got(k), want(k), 1.2e-7 * std::abs(want(k)) + 1e-300) << what << " coordinate " << k;
@@ -141,6 +141,24 @@ TEST_F(MeshIo, TextOffReadsBackEveryDoubleExactly) {
   // Written by hand, with extra columns (colours) after x y z and a polygon.
   writeText("hand.off", "OFF\n4 1 0\n0.1 0.2 0.3 1 0 0\n1e-300 -7 2.5\n1 1 1\n0 1 0\n4 0 1 2 3\n");
   const TriangleMesh hand = steady::io::readMesh(path("hand.off"));
+  ASSERT_EQ(hand.vertices.size(), 4u);
+  EXPECT_TRUE(hand.vertices[0] == Eigen::Vector3d(0.1, 0.2, 0.3)) << hand.vertices[0].transpose();
+  EXPECT_TRUE(hand.vertices[1] == Eigen::Vector3d(1e-300, -7, 2.5)) << hand.vertices[1].transpose();
+  EXPECT_EQ(hand.faces.size(), 2u);
+}
+
+// An OBJ file's "v" lines are read in double too (extra numbers after x y z, a w or a colour,
+// are ignored, as by OpenMesh).
+TEST_F(MeshIo, ObjReadsBackEveryDoubleExactly) {
+  const TriangleMesh box = awkwardBox();
+  steady::io::writeMesh(path("box.obj"), box);
+  const TriangleMesh back = steady::io::readMesh(path("box.obj"));
+  ASSERT_EQ(back.vertices.size(), box.vertices.size());
+  for (std::size_t i = 0; i < box.vertices.size(); ++i)
+    EXPECT_TRUE(back.vertices[i] == box.vertices[i]) << "vertex " << i << ": " << back.vertices[i].transpose();
+  EXPECT_EQ(back.faces, box.faces);
+  writeText("hand.obj", "# a quad\nv 0.1 0.2 0.3 1.0\nv\t1e-300 -7 2.5\nvn 0 0 1\nv 1 1 1 0.5 0.5 0.5\nv 0 1 0\nf 1 2 3 4\n");
+  const TriangleMesh hand = steady::io::readMesh(path("hand.obj"));
   ASSERT_EQ(hand.vertices.size(), 4u);
   EXPECT_TRUE(hand.vertices[0] == Eigen::Vector3d(0.1, 0.2, 0.3)) << hand.vertices[0].transpose();
   EXPECT_TRUE(hand.vertices[1] == Eigen::Vector3d(1e-300, -7, 2.5)) << hand.vertices[1].transpose();
