@@ -340,6 +340,106 @@ std::vector<Eigen::Vector3d> objVertices(const std::string& path) {
   return points;
 }
 
+// The coordinates of a PLY file's vertices, in double: OpenMesh 9's PLY reader rounds them to
+// float, even where the file holds doubles (as writeMesh's binary PLY does). Read when the
+// vertex element comes first and has only scalar properties, x, y and z among them (ASCII or
+// binary, either byte order); empty otherwise, or for anything unexpected: OpenMesh's reading
+// then stands.
+std::vector<Eigen::Vector3d> plyVertices(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  if (!std::getline(in, line) || line.rfind("ply", 0) != 0) return {};
+  enum class Encoding { Ascii, Little, Big } encoding = Encoding::Ascii;
+  long long count = -1;
+  bool vertex_first = false, in_vertex = false, header_done = false;
+  std::vector<int> sizes;  // per vertex property: its size in bytes
+  int coordinate[3] = {-1, -1, -1};
+  std::vector<char> is_float;  // per vertex property: float or double (else an integer type)
+  auto sizeOf = [](const std::string& t) {
+    if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
+    if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
+    if (t == "int" || t == "uint" || t == "int32" || t == "uint32" || t == "float" || t == "float32") return 4;
+    if (t == "double" || t == "float64") return 8;
+    return 0;
+  };
+  int elements = 0;
+  while (std::getline(in, line)) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream words(line);
+    std::string key;
+    words >> key;
+    if (key == "format") {
+      std::string f;
+      words >> f;
+      if (f == "ascii") encoding = Encoding::Ascii;
+      else if (f == "binary_little_endian") encoding = Encoding::Little;
+      else if (f == "binary_big_endian") encoding = Encoding::Big;
+      else return {};
+    } else if (key == "element") {
+      std::string name;
+      words >> name;
+      in_vertex = ++elements == 1 && name == "vertex";
+      if (in_vertex) {
+        vertex_first = true;
+        if (!(words >> count) || count < 0) return {};
+      }
+    } else if (key == "property" && in_vertex) {
+      std::string type, name;
+      words >> type >> name;
+      const int size = sizeOf(type);
+      if (size == 0) return {};  // a list, or an unknown type
+      const int k = name == "x" ? 0 : name == "y" ? 1 : name == "z" ? 2 : -1;
+      if (k >= 0) coordinate[k] = static_cast<int>(sizes.size());
+      sizes.push_back(size);
+      is_float.push_back(type == "float" || type == "float32" || type == "double" || type == "float64");
+    } else if (key == "end_header") {
+      header_done = true;
+      break;
+    }
+  }
+  if (!header_done || !vertex_first || coordinate[0] < 0 || coordinate[1] < 0 || coordinate[2] < 0) return {};
+  for (const int k : coordinate)
+    if (!is_float[static_cast<std::size_t>(k)]) return {};
+  std::vector<Eigen::Vector3d> points;
+  points.reserve(static_cast<std::size_t>(std::min<long long>(count, 1 << 24)));
+  std::vector<double> value(sizes.size());
+  for (long long i = 0; i < count; ++i) {
+    if (encoding == Encoding::Ascii) {
+      if (!std::getline(in, line)) return {};
+      std::istringstream words(line);
+      for (double& v : value) {
+        std::string t;
+        char* end = nullptr;
+        if (!(words >> t)) return {};
+        v = std::strtod(t.c_str(), &end);
+        if (end != t.c_str() + t.size()) return {};
+      }
+    } else {
+      for (std::size_t p = 0; p < sizes.size(); ++p) {
+        unsigned char b[8];
+        if (!in.read(reinterpret_cast<char*>(b), sizes[p])) return {};
+        if (!is_float[p]) continue;
+        // (the file's byte order to the machine's: assemble the bits most significant first)
+        std::uint64_t bits = 0;
+        for (int j = 0; j < sizes[p]; ++j) bits = bits << 8 | b[encoding == Encoding::Big ? j : sizes[p] - 1 - j];
+        if (sizes[p] == 8) {
+          std::memcpy(&value[p], &bits, 8);
+        } else {
+          const auto bits32 = static_cast<std::uint32_t>(bits);
+          float f;
+          std::memcpy(&f, &bits32, 4);
+          value[p] = f;
+        }
+      }
+    }
+    const Eigen::Vector3d x(value[static_cast<std::size_t>(coordinate[0])], value[static_cast<std::size_t>(coordinate[1])],
+                            value[static_cast<std::size_t>(coordinate[2])]);
+    if (!x.allFinite()) return {};
+    points.push_back(x);
+  }
+  return points;
+}
+
 // A binary STL (not starting with "solid") must be 84 + 50 n bytes long for its n triangles.
 void checkBinaryStlSize(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -423,10 +523,11 @@ TriangleMesh readMesh(const std::string& path) {
                                      std::to_string(collected.bad_faces) + " faces do)");
 
   TriangleMesh mesh;
-  // (a text OFF or OBJ file's own coordinates, in double, where there are as many as OpenMesh
-  // read, in float)
-  std::vector<Eigen::Vector3d> exact = off.checked ? std::move(off.points)
+  // (a text OFF, OBJ or PLY file's own coordinates, in double, where there are as many as
+  // OpenMesh read, in float)
+  std::vector<Eigen::Vector3d> exact = off.checked                  ? std::move(off.points)
                                        : format == MeshFormat::Obj ? objVertices(path)
+                                       : format == MeshFormat::Ply ? plyVertices(path)
                                                                    : std::vector<Eigen::Vector3d>();
   mesh.vertices = exact.size() == collected.points.size() ? std::move(exact) : std::move(collected.points);
   for (const std::vector<int>& poly : collected.polygons)

@@ -73,17 +73,20 @@ TriangleMesh awkwardBox() {
   return m;
 }
 
-// OpenMesh 9's readers hold coordinates as 32-bit floats (text OFF and OBJ aside, read in
-// double): agreement to float precision.
-void expectNear(const Eigen::Vector3d& got, const Eigen::Vector3d& want, const std::string& what) {
-  for (int k = 0; k < 3; ++k)
-    EXPECT_NEAR(got(k), want(k), 1.2e-7 * std::abs(want(k)) + 1e-300) << what << " coordinate " << k;
-}
-
-void expectSameMesh(const TriangleMesh& got, const TriangleMesh& want) {
+// STL holds coordinates as 32-bit floats: agreement to float precision there. OFF, OBJ and PLY
+// are read in double: every coordinate bit for bit (OpenMesh 9's readers alone round them to
+// float).
+void expectSameMesh(const TriangleMesh& got, const TriangleMesh& want, bool exact) {
   ASSERT_EQ(got.vertices.size(), want.vertices.size());
   ASSERT_EQ(got.faces.size(), want.faces.size());
-  for (std::size_t i = 0; i < want.vertices.size(); ++i) expectNear(got.vertices[i], want.vertices[i], "vertex " + std::to_string(i));
+  for (std::size_t i = 0; i < want.vertices.size(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      const double g = got.vertices[i](k), w = want.vertices[i](k);
+      if (exact)
+        EXPECT_EQ(g, w) << "vertex " << i << " coordinate " << k;
+      else
+        EXPECT_NEAR(g, w, 1.2e-7 * std::abs(w) + 1e-300) << "vertex " << i << " coordinate " << k;
+    }
   for (std::size_t i = 0; i < want.faces.size(); ++i) EXPECT_EQ(got.faces[i], want.faces[i]) << "face " << i;
 }
 
@@ -103,7 +106,7 @@ TEST_P(MeshRoundTrip, ReadsBackWhatWasWritten) {
   steady::io::writeMesh(file, box, options);
   EXPECT_EQ(entries(), std::vector<std::string>{std::string("box.") + c.ext}) << "no temporary file is left";
   const TriangleMesh back = steady::io::readMesh(file);
-  expectSameMesh(back, box);  // STL too: corners merged in order of first appearance
+  expectSameMesh(back, box, std::string(c.ext) != "stl");  // STL too: corners merged in order of first appearance
 
   const std::string text = readText(file);
   if (std::string(c.ext) == "stl" && c.binary) {
@@ -116,8 +119,7 @@ TEST_P(MeshRoundTrip, ReadsBackWhatWasWritten) {
 }
 
 TEST_F(MeshIo, TextFormatsKeepEveryDigit) {
-  // What steady writes is exact (the shortest decimal that reads back to the same double), even
-  // though OpenMesh reads it back to float precision.
+  // What steady writes is exact (the shortest decimal that reads back to the same double).
   for (const char* name : {"box.off", "box.obj", "box.ply", "box.stl"}) {
     steady::io::writeMesh(path(name), awkwardBox());
     const std::string text = readText(path(name));
@@ -127,42 +129,40 @@ TEST_F(MeshIo, TextFormatsKeepEveryDigit) {
   }
 }
 
-// A text OFF file is read in double: what writeMesh wrote (the shortest decimal of each
-// double) comes back bit for bit, 0.1 and 1/3 included (OpenMesh's reader alone rounds them
-// to float, 1e-9 away).
-TEST_F(MeshIo, TextOffReadsBackEveryDoubleExactly) {
-  const TriangleMesh box = awkwardBox();
-  steady::io::writeMesh(path("box.off"), box);
-  const TriangleMesh back = steady::io::readMesh(path("box.off"));
-  ASSERT_EQ(back.vertices.size(), box.vertices.size());
-  for (std::size_t i = 0; i < box.vertices.size(); ++i)
-    EXPECT_TRUE(back.vertices[i] == box.vertices[i]) << "vertex " << i << ": " << back.vertices[i].transpose();
-  EXPECT_EQ(back.faces, box.faces);
-  // Written by hand, with extra columns (colours) after x y z and a polygon.
+// Files written by hand are read in double too: 0.1 and 1e-300 exactly, with extra numbers after
+// x y z (colours, w) and extra vertex properties ignored, PLY in either byte order. (A text
+// coordinate is the double nearest its decimal, whatever type the PLY header declares.)
+TEST_F(MeshIo, HandWrittenFilesAreReadInDouble) {
+  const std::vector<Eigen::Vector3d> want = {{0.1, 0.2, 0.3}, {1e-300, -7, 2.5}, {1, 1, 1}, {0, 1, 0}};
   writeText("hand.off", "OFF\n4 1 0\n0.1 0.2 0.3 1 0 0\n1e-300 -7 2.5\n1 1 1\n0 1 0\n4 0 1 2 3\n");
-  const TriangleMesh hand = steady::io::readMesh(path("hand.off"));
-  ASSERT_EQ(hand.vertices.size(), 4u);
-  EXPECT_TRUE(hand.vertices[0] == Eigen::Vector3d(0.1, 0.2, 0.3)) << hand.vertices[0].transpose();
-  EXPECT_TRUE(hand.vertices[1] == Eigen::Vector3d(1e-300, -7, 2.5)) << hand.vertices[1].transpose();
-  EXPECT_EQ(hand.faces.size(), 2u);
-}
-
-// An OBJ file's "v" lines are read in double too (extra numbers after x y z, a w or a colour,
-// are ignored, as by OpenMesh).
-TEST_F(MeshIo, ObjReadsBackEveryDoubleExactly) {
-  const TriangleMesh box = awkwardBox();
-  steady::io::writeMesh(path("box.obj"), box);
-  const TriangleMesh back = steady::io::readMesh(path("box.obj"));
-  ASSERT_EQ(back.vertices.size(), box.vertices.size());
-  for (std::size_t i = 0; i < box.vertices.size(); ++i)
-    EXPECT_TRUE(back.vertices[i] == box.vertices[i]) << "vertex " << i << ": " << back.vertices[i].transpose();
-  EXPECT_EQ(back.faces, box.faces);
   writeText("hand.obj", "# a quad\nv 0.1 0.2 0.3 1.0\nv\t1e-300 -7 2.5\nvn 0 0 1\nv 1 1 1 0.5 0.5 0.5\nv 0 1 0\nf 1 2 3 4\n");
-  const TriangleMesh hand = steady::io::readMesh(path("hand.obj"));
-  ASSERT_EQ(hand.vertices.size(), 4u);
-  EXPECT_TRUE(hand.vertices[0] == Eigen::Vector3d(0.1, 0.2, 0.3)) << hand.vertices[0].transpose();
-  EXPECT_TRUE(hand.vertices[1] == Eigen::Vector3d(1e-300, -7, 2.5)) << hand.vertices[1].transpose();
-  EXPECT_EQ(hand.faces.size(), 2u);
+  writeText("hand_ascii.ply", "ply\nformat ascii 1.0\nelement vertex 4\nproperty double x\nproperty uchar red\n"
+                              "property double y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                              "end_header\n0.1 9 0.2 0.3\n1e-300 9 -7 2.5\n1 9 1 1\n0 9 1 0\n4 0 1 2 3\n");
+  {  // big-endian binary doubles, with a uchar between x and y
+    std::string ply = "ply\nformat binary_big_endian 1.0\nelement vertex 4\nproperty double x\nproperty uchar red\n"
+                      "property double y\nproperty double z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                      "end_header\n";
+    auto big = [&](const void* p, int n) {
+      for (int j = n - 1; j >= 0; --j) ply += static_cast<const char*>(p)[j];  // the test host is little endian
+    };
+    for (const Eigen::Vector3d& v : want) {
+      big(&v.x(), 8);
+      ply += '\x09';
+      big(&v.y(), 8);
+      big(&v.z(), 8);
+    }
+    ply += '\x04';
+    for (const std::int32_t i : {0, 1, 2, 3}) big(&i, 4);
+    writeText("hand_big.ply", ply);
+  }
+  for (const char* name : {"hand.off", "hand.obj", "hand_ascii.ply", "hand_big.ply"}) {
+    const TriangleMesh m = steady::io::readMesh(path(name));
+    ASSERT_EQ(m.vertices.size(), 4u) << name;
+    for (std::size_t i = 0; i < 4; ++i)
+      EXPECT_TRUE(m.vertices[i] == want[i]) << name << " vertex " << i << ": " << m.vertices[i].transpose();
+    EXPECT_EQ(m.faces.size(), 2u) << name;
+  }
 }
 
 TEST_F(MeshIo, BinaryPlyHoldsExactDoubles) {
@@ -189,7 +189,7 @@ INSTANTIATE_TEST_SUITE_P(AllFormats, MeshRoundTrip,
 
 TEST_F(MeshIo, UpperCaseExtensionsAreKnown) {
   steady::io::writeMesh(path("BOX.OFF"), awkwardBox());
-  expectSameMesh(steady::io::readMesh(path("BOX.OFF")), awkwardBox());
+  expectSameMesh(steady::io::readMesh(path("BOX.OFF")), awkwardBox(), true);
   EXPECT_EQ(steady::io::meshFormatOf("a/b.Ply"), steady::io::MeshFormat::Ply);
 }
 
@@ -368,7 +368,7 @@ TEST_F(MeshIo, FailureInTheMiddleLeavesTheOldFile) {
 TEST_F(MeshIo, WriteReplacesAnExistingFileCompletely) {
   writeText("out.off", std::string(100000, 'x'));
   steady::io::writeMesh(path("out.off"), awkwardBox());
-  expectSameMesh(steady::io::readMesh(path("out.off")), awkwardBox());
+  expectSameMesh(steady::io::readMesh(path("out.off")), awkwardBox(), true);
   EXPECT_EQ(entries(), std::vector<std::string>{"out.off"});
 }
 

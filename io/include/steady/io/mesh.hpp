@@ -52,10 +52,12 @@ MeshFormat meshFormatOf(const std::string& path);
 ///   in order of first appearance;
 /// - normals, colours and texture coordinates are ignored.
 ///
-/// Precision: the coordinates of text OFF and OBJ files are read in double (the nearest double
-/// to each decimal, so a file written by writeMesh() reads back exactly). For PLY, STL and OFF
-/// variants (COFF, NOFF, binary OFF, ...), OpenMesh 9's readers hold coordinates as 32-bit
-/// floats, so every coordinate is rounded to float (relative error at most 6e-8).
+/// Precision: the coordinates of OFF (text), OBJ and PLY files are read in double (in text, the
+/// nearest double to each decimal), so a file written by writeMesh() reads back exactly.
+/// OpenMesh 9's readers hold coordinates as 32-bit floats, and their values (rounded to float,
+/// relative error at most 6e-8) stand for STL (text or binary), for OFF variants (COFF, NOFF,
+/// binary OFF, ...) and for a PLY file whose first element is not the vertices or whose
+/// vertices have a list property.
 ///
 /// Checks beyond OpenMesh's: a text OFF file must hold the vertices and faces its header
 /// announces, with finite coordinates and corner indices in range, and no '#' comments
@@ -85,7 +87,7 @@ struct MeshWriteOptions {
 ///
 /// Text formats hold every coordinate in the shortest decimal form that reads back to the same
 /// double, binary PLY holds doubles: no digit is lost (binary STL holds floats, as the format
-/// prescribes; note that readMesh() reads PLY and STL to float precision). OFF, PLY and OBJ
+/// prescribes). OFF, PLY and OBJ
 /// files hold exactly the given vertices and faces in their order; STL holds each triangle
 /// with its three corners and its unit normal (0 for a degenerate triangle). An empty mesh
 /// gives a valid empty file.
