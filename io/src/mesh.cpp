@@ -232,6 +232,14 @@ class CaptureOpenMeshMessages {
 
 const char* article(MeshFormat f) { return f == MeshFormat::Ply ? "a" : "an"; }
 
+// Whether token t is one number, read into x (strtod: the double nearest to the decimal, as
+// writeMesh's shortest form requires).
+bool wholeNumber(const std::string& t, double& x) {
+  char* end = nullptr;
+  x = std::strtod(t.c_str(), &end);
+  return !t.empty() && end == t.c_str() + t.size();
+}
+
 // OpenMesh's OFF reader accepts truncated files (repeating the last face) and misreads comment
 // lines without an error, so text OFF files are checked here first: the structure the header
 // announces, line by line. The announced counts are compared with what OpenMesh reads. The
@@ -272,12 +280,7 @@ OffHeader checkTextOff(const std::string& path) {
     const auto r = std::from_chars(t.data(), t.data() + t.size(), out);
     return r.ec == std::errc() && r.ptr == t.data() + t.size();
   };
-  // (strtod: the double nearest to the decimal, as writeMesh's shortest form requires)
-  const auto real = [&](const std::string& t, double& x) {
-    char* end = nullptr;
-    x = std::strtod(t.c_str(), &end);
-    return end == t.c_str() + t.size() && std::isfinite(x);
-  };
+  const auto real = [](const std::string& t, double& x) { return wholeNumber(t, x) && std::isfinite(x); };
   if (!next()) {
     line_no = 1;
     bad("the file is empty");
@@ -331,9 +334,7 @@ std::vector<Eigen::Vector3d> objVertices(const std::string& path) {
     Eigen::Vector3d x;
     for (int k = 0; k < 3; ++k) {
       std::string t;
-      char* end = nullptr;
-      if (!(words >> t) || (x[k] = std::strtod(t.c_str(), &end), end != t.c_str() + t.size()) || !std::isfinite(x[k]))
-        return {};
+      if (!(words >> t) || !wholeNumber(t, x[k]) || !std::isfinite(x[k])) return {};
     }
     points.push_back(x);
   }
@@ -409,10 +410,7 @@ std::vector<Eigen::Vector3d> plyVertices(const std::string& path) {
       std::istringstream words(line);
       for (double& v : value) {
         std::string t;
-        char* end = nullptr;
-        if (!(words >> t)) return {};
-        v = std::strtod(t.c_str(), &end);
-        if (end != t.c_str() + t.size()) return {};
+        if (!(words >> t) || !wholeNumber(t, v)) return {};
       }
     } else {
       for (std::size_t p = 0; p < sizes.size(); ++p) {
