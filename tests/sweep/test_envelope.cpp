@@ -626,6 +626,26 @@ TEST(Envelope, InspectMeshReportsDefects) {
   EXPECT_GT(c.self_intersections, 0);
   c = inspectMesh(two.v, two.f, false);
   EXPECT_EQ(c.self_intersections, -1);
+  // Two boxes that share one corner vertex: closed and oriented, but not manifold there.
+  Mesh pinched = b;
+  const Mesh next = box(V(1, 1, 1), V(2, 2, 2));
+  auto indexOf = [](const Mesh& m, const V& x) {
+    return static_cast<int>(std::find(m.v.begin(), m.v.end(), x) - m.v.begin());
+  };
+  const int shared = indexOf(b, V(1, 1, 1)), corner = indexOf(next, V(1, 1, 1));
+  ASSERT_LT(shared, 8);
+  ASSERT_LT(corner, 8);
+  for (const auto& t : next.f) {
+    std::array<int, 3> u;
+    for (int k = 0; k < 3; ++k) u[k] = t[k] == corner ? shared : t[k] + 8;
+    pinched.f.push_back(u);
+  }
+  pinched.v.insert(pinched.v.end(), next.v.begin(), next.v.end());
+  c = inspectMesh(pinched.v, pinched.f);
+  EXPECT_TRUE(c.closed && c.oriented);
+  EXPECT_FALSE(c.manifold);
+  EXPECT_EQ(c.shells, 2);
+  EXPECT_NEAR(c.volume, 2.0, 1e-14);
   Mesh out = b;
   out.f[0][0] = 8;
   EXPECT_TRUE(throwsError([&] { inspectMesh(out.v, out.f); }, ErrorCode::InvalidArgument, "vertex|range|index"));
