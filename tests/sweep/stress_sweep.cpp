@@ -259,9 +259,10 @@ std::string verifyExtraShells(const Mesh& mesh, const Motion3& motion, const Env
     std::shuffle(verts.begin(), verts.end(), rng);
     if (verts.size() > 300) verts.resize(300);
     int off_boundary = 0, vundecided = 0;
+    double worst_off = 0;  // the largest lower bound of a distance off the true boundary, in eps
     for (const int i : verts) {
       const MinBracket b = boundaryBracket(mb, ev[static_cast<std::size_t>(i)], T);
-      if (b.lo > T || b.hi < -T) ++off_boundary;
+      if (b.lo > T || b.hi < -T) ++off_boundary, worst_off = std::max({worst_off, b.lo / eps, -b.hi / eps});
       else if (!(b.hi <= T && b.lo >= -T)) ++vundecided;
     }
     const V lo = boxLo(corners), hi = boxHi(corners);
@@ -285,10 +286,11 @@ std::string verifyExtraShells(const Mesh& mesh, const Motion3& motion, const Env
       }
       if (enclosed >= 5) break;
     }
-    summary += format("{cavity: %zu vertices checked, %d off the true boundary, %d undecided; %d points enclosed "
-                      "(>%g eps from the envelope), %d inside a posed body, %d undecided, %d inside by SweptVolume, "
-                      "%d inside by winding number}",
-                      verts.size(), off_boundary, vundecided, enclosed, k_used, in_body, pundecided, in_sv, in_env);
+    summary += format("{cavity: %zu vertices checked, %d off the true boundary (the farthest by at least %.3g eps), %d undecided; "
+                      "%d points enclosed (>%g eps from the envelope), %d inside a posed body, %d undecided, %d inside "
+                      "by SweptVolume, %d inside by winding number}",
+                      verts.size(), off_boundary, worst_off, vundecided, enclosed, k_used, in_body, pundecided, in_sv,
+                      in_env);
     const bool vertices_ok = off_boundary == 0 && vundecided <= static_cast<int>(verts.size()) / 50;
     const bool points_ok = enclosed >= 5 && in_body == 0 && in_sv == 0 && in_env == 0 && pundecided <= enclosed / 10;
     if (!vertices_ok || !points_ok)

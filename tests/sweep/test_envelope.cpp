@@ -393,8 +393,27 @@ TEST(Envelope, CrackMouthCornerOnTheBracketPolySamIsClosed) {
 // be closed, so their crack walls were kept, and an envelope vertex lay 5.05 eps inside the
 // body posed at tau 0.156. Such a mouth is now fanned around its mean point. Checked with the
 // certified oracle: every envelope vertex in a box of 100 eps about that vertex (42 of them)
-// is within T = 1.01 eps of the true boundary, and the output is one embedded shell.
-// With the fan disabled, the vertex fails.
+// is within T = 1.01 eps of the true boundary, and the output is one embedded shell, with no
+// crack face or buried patch kept. With the fan disabled, the vertex failed; since flaps are
+// left out too (see FlapsAcrossACrackMouthAreLeftOut), it passes, but 112 crack faces and 8
+// buried patches are kept.
+// Checks every vertex of env within 50 eps of `deep` (a vertex once found too deep) with the
+// certified oracle: at least 30 of them, none failing, at most 2% undecided; prints the counts
+// under `what`.
+void expectCrackMouthClosed(const Envelope& env, const Mesh& m, const Motion3& motion, const V& deep,
+                            const char* what) {
+  expectOneEmbeddedShell(env);
+  const V reach = V::Constant(50 * env.tolerance);
+  const NearCheck n = checkVerticesInBox(env, MovingBody(m, motion), deep - reach, deep + reach);
+  EXPECT_GE(n.checked, 30) << "the box no longer holds the vertices about the crack mouth";
+  EXPECT_EQ(n.failed, 0);
+  EXPECT_LE(n.undecided, n.checked / 50) << "envelope vertices the oracle could not decide within its budget";
+  std::printf("[ info     ] %s: %d vertices checked, %d fail, %d undecided, %zu mouths filled, %zu flap faces left "
+              "out, kept: %zu buried patches, %zu crack faces\n",
+              what, n.checked, n.failed, n.undecided, env.pocket_mouths_filled, env.mouth_flaps_removed,
+              env.buried_patches_kept, env.crack_faces_kept);
+}
+
 TEST(Envelope, CrackMouthsThatOnlyAFanCanClose) {
   const Mesh m = uvSphere(6, 10, 0.6);
   Eigen::Matrix<double, 3, 4> b, c;
@@ -406,16 +425,31 @@ TEST(Envelope, CrackMouthsThatOnlyAFanCanClose) {
       0.69669970208393051, -0.71454295807360535, -0.063544363901014478, 0.16463481397787938;
   const Motion3 motion = single(Affine3::fromMatrix(b), Affine3::fromMatrix(c));
   const Envelope env = sweep(m, motion);
-  expectOneEmbeddedShell(env);
-  const V deep(-0.3230634931278813, 0.009342144717226164, 0.65835898137252169);
-  const V reach = V::Constant(50 * env.tolerance);
-  const NearCheck n = checkVerticesInBox(env, MovingBody(m, motion), deep - reach, deep + reach);
-  EXPECT_GE(n.checked, 30) << "the box no longer holds the vertices about the crack mouth";
-  EXPECT_EQ(n.failed, 0);
-  EXPECT_LE(n.undecided, n.checked / 50) << "envelope vertices the oracle could not decide within its budget";
-  std::printf("[ info     ] sphere screw crack mouths: %d vertices checked, %d fail, %d undecided, %zu mouths filled, "
-              "kept: %zu buried patches, %zu crack faces\n",
-              n.checked, n.failed, n.undecided, env.pocket_mouths_filled, env.buried_patches_kept, env.crack_faces_kept);
+  EXPECT_EQ(env.crack_faces_kept, 0u);
+  EXPECT_EQ(env.buried_patches_kept, 0u);
+  expectCrackMouthClosed(env, m, motion, V(-0.3230634931278813, 0.009342144717226164, 0.65835898137252169),
+                         "sphere screw crack mouths");
+}
+
+// The stress campaign's L prism on an affine span (case 1317): a crack mouth of 8 points whose
+// loop is partly covered by three faces of the surface with all their corners on it (a flap
+// folded over the mouth), so that every filling, fan included, crossed them; the crack was
+// kept, with an envelope vertex 13.8 eps deep inside the swept volume. With the flaps left out
+// the mouth closes: every envelope vertex within 50 eps of the former failure is checked.
+TEST(Envelope, FlapsAcrossACrackMouthAreLeftOut) {
+  const Mesh m = lShape(0.5);
+  Eigen::Matrix<double, 3, 4> b, c;
+  b << 0.9161238676034249, 0.023033086209158754, -0.40023310226294873, 0.27062533318929982,  //
+      -0.29169887511121506, 0.72314707648626875, -0.62607513289397976, -0.49436907092500126,  //
+      0.27500695530512365, 0.69030991786953488, 0.6692110218942614, 0.39889251948110205;
+  c << 1.2770624885343218, 0.18275416152054147, -0.092997279366068608, 1.8910463144994361,  //
+      -0.235071247449812, 0.50285512338040683, -0.96641858956008675, -1.780924721129705,     //
+      -0.35141708224470702, 0.44176690926776824, 0.33491844832263179, 0.43228083684674168;
+  const Motion3 motion = single(Affine3::fromMatrix(b), Affine3::fromMatrix(c));
+  const Envelope env = sweep(m, motion, 2e-3);
+  EXPECT_GT(env.mouth_flaps_removed, 0u);
+  expectCrackMouthClosed(env, m, motion, V(1.3462980109390537, -0.47167873560580681, 1.7878563225641049),
+                         "L prism affine crack mouth");
 }
 
 // Expects envelope b to be a, bit for bit (triangles, then every vertex's doubles); `what`
@@ -448,6 +482,7 @@ TEST(Envelope, SameEnvelopeOnAnyNumberOfThreads) {
     EXPECT_EQ(b.crack_faces_removed, a.crack_faces_removed) << threads << " threads";
     EXPECT_EQ(b.buried_patches_kept, a.buried_patches_kept) << threads << " threads";
     EXPECT_EQ(b.crack_faces_kept, a.crack_faces_kept) << threads << " threads";
+    EXPECT_EQ(b.mouth_flaps_removed, a.mouth_flaps_removed) << threads << " threads";
     expectSameEnvelope(a, b, std::to_string(threads) + " threads");
   }
   SweepOptions bad;
