@@ -2156,8 +2156,8 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
 // filled (the new points appended to V), or -1 (V left alone, T without its flaps) when some edge path
 // does not close, some loop cannot be filled, a filling face would leave an edge with other
 // than two faces, or a filling face crosses the surface or another filling face; `trouble` then
-// holds the vertices of every such path and loop, except the loops that have flaps (see
-// Flaps), whose flap faces (indices into T) are in `flaps` instead.
+// holds the vertices of every such path and loop. `flaps`: how many faces of T were left out
+// as flaps (see Flaps).
 // Loops of up to this many points are filled by a search over all triangulations of the
 // polygon (cubic in its size: about 3e5 candidate triangles at this size): CGAL's first, then,
 // for the loops whose filling is bad, fillMouths' own (refillLoop), which leaves out the
@@ -2204,18 +2204,19 @@ constexpr double kFanReach = 2.0;
 // Flaps: faces of the surface whose three corners lie on one loop, with an edge on it. Such a
 // face lies across the mouth (the mouth's rims are less than the probe length apart), and
 // fans that failed often crossed only such faces (in 9 of the stress campaign's 12 failing
-// cases checked, some did; in 7, most did). They are left out before the loops are filled: the
-// loop and the flaps' other edges
-// become the mouth, closed as a whole (at once, so that no selection round is spent on them).
-// Flaps found only on loops still bad after the fans (the loops changed by leaving out the
-// first) are left out in the next selection round, as crack walls are; a flap that comes back
-// there (its crack region kept) is not left out again. The stress campaign failed in 3 cases
-// of 1,800 with flaps left out (vertices 1.06, 1.22 and 2.1 ε deep), against 14 without; the
-// elephant and knot1 screws at 1e-3 keep 1,988 and 2,499 crack faces instead of 2,456 and
-// 3,383, and 260 and 23 buried patches instead of 353 and 276.
+// cases checked, some did; in 7, most did). They are left out before the loops are filled, and
+// the loops traced again: the loop and the flaps' other edges become one mouth, closed as a
+// whole. With them left out the stress campaign fails in 5 cases of 1,800 instead of 13 (the
+// worst vertex 1.84 ε deep instead of 13.8 ε); on the screws at 1e-3 knot1 keeps 2,810 crack
+// faces instead of 3,383, the armadillo 4,520 instead of 5,274 and no longer self-intersects
+// (126 crossing pairs and 2 touching pinches before), the elephant about as many (2,481 and
+// 398 buried patches instead of 2,456 and 353). Tried and dropped: leaving out only the flaps
+// of loops still bad after the fans, in the next selection round (6 failures, one envelope
+// self-intersecting), and both ways together (3 failures, but the armadillo's rounds did not
+// converge: 13,884 crack faces kept, the output stage twice as long).
 
 long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vector<int>& trouble,
-                std::vector<int>& flaps, std::vector<int>& peeled, int threads) {
+                std::size_t& flaps, int threads) {
   // Per undirected edge: how many faces use it and the net direction (a < b positive), by a
   // sort of every face's edges (faster than hashing here: this runs once per selection round).
   struct EdgeUse {
@@ -2286,15 +2287,13 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
       }
     }
   };
-  // The flaps (see Flaps) of the loops l with which[l] set: their faces, and per loop whether
-  // it has some.
-  auto flapsOf = [&](const std::vector<char>& which, std::vector<int>& faces, std::vector<char>& has) {
-    faces.clear();
-    has.assign(loops.size(), 0);
-    std::vector<int> loop_at(V.size(), -1);  // per point: the chosen loop through it (-2: several)
+  traceLoops();
+  // Flaps (see Flaps) are left out before the loops are filled, and the loops traced again.
+  flaps = 0;
+  {
+    std::vector<int> loop_at(V.size(), -1);  // per point: the loop through it (-2: several)
     std::unordered_set<std::uint64_t> loop_edges;
     for (std::size_t l = 0; l < loops.size(); ++l) {
-      if (!which[l]) continue;
       const std::vector<int>& loop = loops[l];
       for (std::size_t i = 0; i < loop.size(); ++i) {
         int& at = loop_at[static_cast<std::size_t>(loop[i])];
@@ -2302,35 +2301,22 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
         loop_edges.insert(edgeKey(loop[i], loop[(i + 1) % loop.size()]));
       }
     }
-    if (loop_edges.empty()) return;
+    auto onLoop = [&](int a, int b) { return loop_edges.count(edgeKey(a, b)) > 0; };
+    std::size_t kept = 0;
     for (std::size_t g = 0; g < T.size(); ++g) {
-      const Tri& t = T[g];
+      const Tri t = T[g];
       const int l = loop_at[static_cast<std::size_t>(t[0])];
-      if (l < 0 || loop_at[static_cast<std::size_t>(t[1])] != l || loop_at[static_cast<std::size_t>(t[2])] != l) continue;
-      if (!loop_edges.count(edgeKey(t[0], t[1])) && !loop_edges.count(edgeKey(t[1], t[2])) &&
-          !loop_edges.count(edgeKey(t[2], t[0])))
-        continue;
-      faces.push_back(static_cast<int>(g));
-      has[static_cast<std::size_t>(l)] = 1;
+      const bool flap = l >= 0 && loop_at[static_cast<std::size_t>(t[1])] == l &&
+                        loop_at[static_cast<std::size_t>(t[2])] == l &&
+                        (onLoop(t[0], t[1]) || onLoop(t[1], t[2]) || onLoop(t[2], t[0]));
+      if (flap) {
+        ++flaps;
+      } else {
+        T[kept++] = t;
+      }
     }
-  };
-  traceLoops();
-  // Flaps go at once (`place`: per face of T, its index in the T given).
-  std::vector<int> place(T.size());
-  std::iota(place.begin(), place.end(), 0);
-  peeled.clear();
-  {
-    std::vector<int> faces;
-    std::vector<char> has;
-    flapsOf(std::vector<char>(loops.size(), 1), faces, has);
-    if (!faces.empty()) {
-      std::vector<char> out(T.size(), 0);
-      for (const int g : faces) out[static_cast<std::size_t>(g)] = 1, peeled.push_back(g);
-      std::size_t kept = 0;
-      for (std::size_t g = 0; g < T.size(); ++g)
-        if (!out[g]) T[kept] = T[g], place[kept] = place[g], ++kept;
+    if (flaps) {
       T.resize(kept);
-      place.resize(kept);
       traceLoops();
     }
   }
@@ -2541,15 +2527,9 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
   if (again) bad = badLoops(fresh);
   // Every loop that still cannot be filled is reported at once: its flaps if it has some,
   // else its vertices.
-  flaps.clear();
-  if (std::find(bad.begin(), bad.end(), 1) != bad.end()) {
-    std::vector<char> has_flaps;
-    flapsOf(bad, flaps, has_flaps);
-    for (int& g : flaps) g = place[static_cast<std::size_t>(g)];
-    for (std::size_t l = 0; l < loops.size(); ++l)
-      if (bad[l] && !has_flaps[l]) fail(loops[l]);
-  }
-  if (!trouble.empty() || !flaps.empty()) {
+  for (std::size_t l = 0; l < loops.size(); ++l)
+    if (bad[l]) fail(loops[l]);
+  if (!trouble.empty()) {
     V.resize(old_points);
     return -1;
   }
@@ -2614,12 +2594,10 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
       if (crack[f]) crack_region[f] = findRoot(parent, static_cast<int>(f));
   }
   std::vector<int> used(A.points.size(), -1);
-  std::vector<int> face_of;  // per selected triangle: its face
   // The selection, without the buried patches and the crack walls.
   auto select = [&]() {
     env.vertices.clear();
     env.triangles.clear();
-    face_of.clear();
     std::fill(used.begin(), used.end(), -1);
     for (std::size_t f = 0; f < A.faces.size(); ++f) {
       const int p = L.patch[f];
@@ -2640,7 +2618,6 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
         v = used[v];
       }
       env.triangles.push_back(t);
-      face_of.push_back(static_cast<int>(f));
     }
   };
   // Leave the buried patches and crack walls out only where the mouths they open can be closed:
@@ -2651,20 +2628,17 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
   // none are left out.
   const std::vector<char> buried_found = buried;
   const std::vector<char> crack_found = crack;
-  std::vector<char> peeled(A.faces.size(), 0);  // flaps left out (see Flaps)
-  std::vector<int> flaps_peeled;                 // flaps left out by the last fillMouths
+  std::size_t flaps = 0;  // flap faces left out by the last fillMouths
   long mouths = 0;
   for (int round = 0;; ++round) {
     select();
     if (std::find(buried.begin(), buried.end(), 1) == buried.end() && std::find(crack.begin(), crack.end(), 1) == crack.end())
       break;
-    std::vector<int> trouble, flaps;
-    mouths = fillMouths(env.vertices, env.triangles, kTessellationShare * eps, trouble, flaps, flaps_peeled,
-                        options.threads);
+    std::vector<int> trouble;
+    mouths = fillMouths(env.vertices, env.triangles, kTessellationShare * eps, trouble, flaps, options.threads);
     if (mouths >= 0) break;
     mouths = 0;
     if (round == kMouthRounds) {
-      std::fill(peeled.begin(), peeled.end(), 0);
       if (std::find(crack.begin(), crack.end(), 1) != crack.end()) {
         std::fill(crack.begin(), crack.end(), 0);
         buried = buried_found;
@@ -2673,18 +2647,6 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
         std::fill(buried.begin(), buried.end(), 0);
       }
       continue;
-    }
-    // Flaps are left out (as crack walls of their own) in the next round; a flap left out
-    // before is a troubled mouth like the others.
-    for (const int g : flaps) {
-      const auto f = static_cast<std::size_t>(face_of[static_cast<std::size_t>(g)]);
-      if (peeled[f]) {
-        trouble.insert(trouble.end(), env.triangles[static_cast<std::size_t>(g)].begin(),
-                       env.triangles[static_cast<std::size_t>(g)].end());
-        continue;
-      }
-      peeled[f] = crack[f] = 1;
-      crack_region[f] = static_cast<int>(f);
     }
     // Keep the buried patches and the crack regions with a vertex on the troubled path.
     std::vector<char> at_mouth(A.points.size(), 0);
@@ -2716,11 +2678,10 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
   env.buried_patches_removed = static_cast<std::size_t>(std::count(buried.begin(), buried.end(), 1));
   env.crack_faces_removed = 0;
   env.crack_faces_kept = 0;
-  env.mouth_flaps_removed = mouths > 0 ? flaps_peeled.size() : 0;
+  env.mouth_flaps_removed = mouths > 0 ? flaps : 0;
   for (std::size_t f = 0; f < A.faces.size(); ++f) {
     env.crack_faces_removed += crack[f] && crack_found[f];
     env.crack_faces_kept += !crack[f] && crack_found[f];
-    env.mouth_flaps_removed += crack[f] && !crack_found[f];
   }
   env.buried_patches_kept =
       static_cast<std::size_t>(std::count(buried_found.begin(), buried_found.end(), 1)) - env.buried_patches_removed;
