@@ -2152,12 +2152,12 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
 // leaves a thin mouth, loops of edges with one face. The unmatched edges are followed into
 // simple loops (a vertex met again closes the loop from its first visit), and each loop is
 // triangulated (see kCubicHoleFilling), or else fanned around a new point (see Fans); the
-// new faces run against the loop, so the surface is closed again. Returns the number of loops
-// filled (the new points appended to V), or -1 (V left alone, T without its flaps) when some edge path
-// does not close, some loop cannot be filled, a filling face would leave an edge with other
-// than two faces, or a filling face crosses the surface or another filling face; `trouble` then
-// holds the vertices of every such path and loop. `flaps`: how many faces of T were left out
-// as flaps (see Flaps).
+// new faces run against the loop, so the surface is closed again. Faces folded across a mouth
+// are left out of T first (see Flaps; `flaps`: how many). Returns the number of loops filled
+// (the new points appended to V), or -1 (V left alone, T without its flaps) when some edge
+// path does not close, some loop cannot be filled, a filling face would leave an edge with
+// other than two faces, or a filling face crosses the surface or another filling face;
+// `trouble` then holds the vertices of every such path and loop.
 // Loops of up to this many points are filled by a search over all triangulations of the
 // polygon (cubic in its size: about 3e5 candidate triangles at this size): CGAL's first, then,
 // for the loops whose filling is bad, fillMouths' own (refillLoop), which leaves out the
@@ -2525,8 +2525,7 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
       }
   }
   if (again) bad = badLoops(fresh);
-  // Every loop that still cannot be filled is reported at once: its flaps if it has some,
-  // else its vertices.
+  // Every loop that still cannot be filled is reported at once.
   for (std::size_t l = 0; l < loops.size(); ++l)
     if (bad[l]) fail(loops[l]);
   if (!trouble.empty()) {
