@@ -971,6 +971,14 @@ struct Labels {
   std::size_t retries = 0;
 };
 
+// The side of patch p's faces that is empty when p is selected (winding number 0 on that side,
+// at least 1 on the other): +1 in front of the faces (where their normals point), -1 behind, 0
+// when p is not selected.
+int emptySide(const Labels& L, int p) {
+  const int front = L.w_front[static_cast<std::size_t>(p)], back = front + L.jump[static_cast<std::size_t>(p)];
+  return front <= 0 && back >= 1 ? 1 : back <= 0 && front >= 1 ? -1 : 0;
+}
+
 // Patches whose rays check the labels propagated across edges (spread evenly over the patches).
 constexpr std::size_t kLabelChecks = 64;
 // A cast of up to this many rays scans the faces (facesNearSegments) instead of building a box
@@ -1542,9 +1550,8 @@ std::vector<std::array<int, 3>> pairAcrossEdges(const std::vector<Vec>& V, const
                                                 const std::set<std::uint64_t>& empty_wedges) {
   std::vector<std::array<int, 3>> partner(T.size(), {{-1, -1, -1}});
   const std::vector<std::pair<std::uint64_t, int>> sides = edgeSides(T, V.size(), 1);
-  for (std::size_t i0 = 0, i1 = 0; i0 < sides.size(); i0 = i1) {
-    while (i1 < sides.size() && sides[i1].first == sides[i0].first) ++i1;
-    if (i1 - i0 <= 2 || (i1 - i0) % 2) continue;
+  forEachEdge(sides, [&](std::size_t i0, std::size_t i1) {
+    if (i1 - i0 <= 2 || (i1 - i0) % 2) return;
     const std::uint64_t key = sides[i0].first;
     const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);  // a < b
     const Vec d = (V[b] - V[a]).normalized();
@@ -1564,7 +1571,7 @@ std::vector<std::array<int, 3>> pairAcrossEdges(const std::vector<Vec>& V, const
     const std::size_t n = around.size();
     bool alternates = true;
     for (std::size_t i = 0; i < n; ++i) alternates = alternates && around[i].forward != around[(i + 1) % n].forward;
-    if (!alternates) continue;
+    if (!alternates) return;
     // A face running b -> a has its solid side counter-clockwise, one running a -> b its empty side.
     const bool pair_backward = !empty_wedges.count(key);
     for (std::size_t i = 0; i < n; ++i) {
@@ -1574,7 +1581,7 @@ std::vector<std::array<int, 3>> pairAcrossEdges(const std::vector<Vec>& V, const
       partner[x.face][x.k] = y.face;
       partner[y.face][y.k] = x.face;
     }
-  }
+  });
   return partner;
 }
 
@@ -1923,9 +1930,7 @@ std::vector<char> buriedPatches(const Arrangement& A, const Labels& L, double ep
   std::vector<int> side(np, 0), largest(np, -1);
   std::vector<double> area(np, -1);
   for (std::size_t p = 0; p < np; ++p) {
-    if (L.group[p] != static_cast<int>(p)) continue;
-    const int front = L.w_front[p], back = L.w_front[p] + L.jump[p];
-    side[p] = front <= 0 && back >= 1 ? 1 : back <= 0 && front >= 1 ? -1 : 0;
+    if (L.group[p] == static_cast<int>(p)) side[p] = emptySide(L, static_cast<int>(p));
   }
   for (std::size_t f = 0; f < A.faces.size(); ++f) {
     const int p = L.patch[f];
@@ -2042,8 +2047,7 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
     for (std::size_t f = 0; f < nf; ++f) {
       const int p = L.patch[f];
       if (L.group[p] != p) continue;
-      const int front = L.w_front[p], back = L.w_front[p] + L.jump[p];
-      const int side = front <= 0 && back >= 1 ? 1 : back <= 0 && front >= 1 ? -1 : 0;
+      const int side = emptySide(L, p);
       if (!side) continue;
       const Tri& t = A.faces[f];
       const Vec a = vec(t[0]), b = vec(t[1]), c = vec(t[2]);
@@ -2601,14 +2605,10 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
     for (std::size_t f = 0; f < A.faces.size(); ++f) {
       const int p = L.patch[f];
       if (L.group[p] != p || buried[p] || crack[f]) continue;
-      const int front = L.w_front[p], back = L.w_front[p] + L.jump[p];
+      const int side = emptySide(L, p);
+      if (!side) continue;
       Tri t = A.faces[f];
-      if (front <= 0 && back >= 1) {
-      } else if (back <= 0 && front >= 1) {
-        std::swap(t[1], t[2]);
-      } else {
-        continue;
-      }
+      if (side < 0) std::swap(t[1], t[2]);
       for (int& v : t) {
         if (used[v] < 0) {
           used[v] = static_cast<int>(env.vertices.size());
