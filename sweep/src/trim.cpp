@@ -2205,6 +2205,8 @@ constexpr std::size_t kRefillPoints = 32;
 // nothing reports; with it, a convex body's affine span (case 1342) keeps a crack whose wall
 // is 2.1 ε deep, which Envelope::crack_faces_kept reports.
 constexpr double kFanReach = 2.0;
+// Flap passes (see Flaps) before the loops are filled.
+constexpr int kFlapPasses = 4;
 // Flaps: faces of the surface whose three corners lie on one loop, with an edge on it. Such a
 // face lies across the mouth (the mouth's rims are less than the probe length apart), and
 // fans that failed often crossed only such faces (in 9 of the stress campaign's 12 failing
@@ -2292,37 +2294,42 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
     }
   };
   traceLoops();
-  // Flaps (see Flaps) are left out before the loops are filled, and the loops traced again.
+  // Flaps (see Flaps) are left out before the loops are filled, and the loops traced again,
+  // up to kFlapPasses times: leaving flaps out joins loops into new ones, with flaps of their own.
   flaps = 0;
-  {
-    std::vector<int> loop_at(V.size(), -1);  // per point: the loop through it (-2: several)
-    std::unordered_set<std::uint64_t> loop_edges;
+  for (int pass = 0; pass < kFlapPasses; ++pass) {
+    // Per loop edge: its loop (-2: an edge of several loops); per loop, its points (as loop << 32
+    // | point). A point may lie on several loops (they meet at it): a face's corners are looked
+    // up on the loop of its edge.
+    std::unordered_map<std::uint64_t, int> edge_loop;
+    std::unordered_set<std::uint64_t> loop_point;
+    auto loopPoint = [](std::size_t l, int v) { return static_cast<std::uint64_t>(l) << 32 | static_cast<std::uint32_t>(v); };
     for (std::size_t l = 0; l < loops.size(); ++l) {
       const std::vector<int>& loop = loops[l];
       for (std::size_t i = 0; i < loop.size(); ++i) {
-        int& at = loop_at[static_cast<std::size_t>(loop[i])];
-        at = at == -1 || at == static_cast<int>(l) ? static_cast<int>(l) : -2;
-        loop_edges.insert(edgeKey(loop[i], loop[(i + 1) % loop.size()]));
+        const auto [it, added] = edge_loop.emplace(edgeKey(loop[i], loop[(i + 1) % loop.size()]), static_cast<int>(l));
+        if (!added && it->second != static_cast<int>(l)) it->second = -2;
+        loop_point.insert(loopPoint(l, loop[i]));
       }
     }
-    auto onLoop = [&](int a, int b) { return loop_edges.count(edgeKey(a, b)) > 0; };
+    auto isFlap = [&](const Tri& t) {
+      for (int k = 0; k < 3; ++k) {
+        const auto it = edge_loop.find(edgeKey(t[k], t[(k + 1) % 3]));
+        if (it != edge_loop.end() && it->second >= 0 &&
+            loop_point.count(loopPoint(static_cast<std::size_t>(it->second), t[(k + 2) % 3])))
+          return true;
+      }
+      return false;
+    };
     std::size_t kept = 0;
     for (std::size_t g = 0; g < T.size(); ++g) {
       const Tri t = T[g];
-      const int l = loop_at[static_cast<std::size_t>(t[0])];
-      const bool flap = l >= 0 && loop_at[static_cast<std::size_t>(t[1])] == l &&
-                        loop_at[static_cast<std::size_t>(t[2])] == l &&
-                        (onLoop(t[0], t[1]) || onLoop(t[1], t[2]) || onLoop(t[2], t[0]));
-      if (flap) {
-        ++flaps;
-      } else {
-        T[kept++] = t;
-      }
+      if (!isFlap(t)) T[kept++] = t;
     }
-    if (flaps) {
-      T.resize(kept);
-      traceLoops();
-    }
+    if (kept == T.size()) break;
+    flaps += T.size() - kept;
+    T.resize(kept);
+    traceLoops();
   }
   // Each loop's filling faces (empty when CGAL gives no triangulation of it). CGAL's triangles
   // (i, j, k), i < j < k, run along the loop; the faces next to the loop run along it too, so
