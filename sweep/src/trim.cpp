@@ -2205,21 +2205,28 @@ constexpr std::size_t kRefillPoints = 32;
 // nothing reports; with it, a convex body's affine span (case 1342) keeps a crack whose wall
 // is 2.1 ε deep, which Envelope::crack_faces_kept reports.
 constexpr double kFanReach = 2.0;
-// Flap passes (see Flaps) before the loops are filled.
+// Flap passes (see Flaps) before the loops are filled (bunny00's screw at 1e-3 finds flaps in
+// three: 12,512, 735 and 8 in its first round).
 constexpr int kFlapPasses = 4;
-// Flaps: faces of the surface whose three corners lie on one loop, with an edge on it. Such a
-// face lies across the mouth (the mouth's rims are less than the probe length apart), and
-// fans that failed often crossed only such faces (in 9 of the stress campaign's 12 failing
+// Flaps: faces of the surface with an edge on a loop and their third corner on the same loop.
+// Such a face lies across the mouth (the mouth's rims are less than the probe length apart),
+// and fans that failed often crossed only such faces (in 9 of the stress campaign's 12 failing
 // cases checked, some did; in 7, most did). They are left out before the loops are filled, and
 // the loops traced again: the loop and the flaps' other edges become one mouth, closed as a
-// whole. With them left out the stress campaign fails in 5 cases of 1,800 instead of 13 (the
-// worst vertex 1.84 ε deep instead of 13.8 ε); on the screws at 1e-3 knot1 keeps 2,810 crack
-// faces instead of 3,383, the armadillo 4,520 instead of 5,274 and no longer self-intersects
-// (126 crossing pairs and 2 touching pinches before), the elephant about as many (2,481 and
-// 398 buried patches instead of 2,456 and 353). Tried and dropped: leaving out only the flaps
-// of loops still bad after the fans, in the next selection round (6 failures, one envelope
-// self-intersecting), and both ways together (3 failures, but the armadillo's rounds did not
-// converge: 13,884 crack faces kept, the output stage twice as long).
+// whole; that mouth may have flaps of its own, hence up to kFlapPasses passes. With flaps whose
+// corners lie on their loop alone left out once, the campaign failed in 5 cases of 1,800
+// instead of 13 (the worst vertex 1.84 ε deep instead of 13.8 ε), and the armadillo's screw
+// no longer self-intersected (126 crossing pairs and 2 touching pinches before). Corners on
+// other loops too (loops meet at points; a mouth of CGAL's sphere was covered by four such
+// faces) and the repeated passes: 2 failures (1.06 and 1.18 ε); kept crack faces and buried
+// patches on the screws at 1e-3: elephant 2,481 and 398 -> 1,771 and 236, knot1 2,810 and 207
+// -> 2,889 and 106, bunny00 3,936 and 1,674 -> 1,476 and 969 (but 12 selection rounds instead
+// of about 7: output stage 3.7 -> 7.4 s). With the wider rule in one pass, 7 failures, one
+// 25 ε deep (a flap of a joined loop was left, the loop failed and a large buried patch was
+// kept). Tried and dropped: leaving out only the flaps of loops still bad after the fans, in
+// the next selection round (6 failures, one envelope self-intersecting), and both ways
+// together (3 failures, but the armadillo's rounds did not converge: 13,884 crack faces kept,
+// the output stage twice as long).
 
 long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vector<int>& trouble,
                 std::size_t& flaps, int threads) {

@@ -156,9 +156,9 @@ struct Envelope {
   std::size_t crack_faces_kept = 0;  ///< (see buried_patches_kept)
   /// Mouths of such pockets and cracks (loops of edges left with one face) closed by hole filling.
   std::size_t pocket_mouths_filled = 0;
-  /// Faces left out because they lay across such a mouth: their three corners on its rim and
-  /// an edge on it (a flap folded over the mouth, whose rims are less than the 0.75 ε probe
-  /// apart). Their other edges then become part of the mouth, which is closed as a whole.
+  /// Faces left out because they lay across such a mouth: an edge on its rim and the third
+  /// corner on the same rim (a flap folded over the mouth, whose rims are less than the 0.75 ε
+  /// probe apart). Their other edges then become part of the mouth, which is closed as a whole.
   std::size_t mouth_flaps_removed = 0;
   /// Vertices merged after rounding because they lay within 1e-13 times the envelope's box
   /// diagonal of another (distinct exact points a few ulps apart, whose rounded slivers would
