@@ -2221,7 +2221,7 @@ constexpr int kFlapPasses = 4;
 // faces) and the repeated passes: 2 failures (1.06 and 1.18 ε); kept crack faces and buried
 // patches on the screws at 1e-3: elephant 2,481 and 398 -> 1,771 and 236, knot1 2,810 and 207
 // -> 2,889 and 106, bunny00 3,936 and 1,674 -> 1,476 and 969 (but 12 selection rounds instead
-// of about 7: output stage 3.7 -> 7.4 s). With the wider rule in one pass, 7 failures, one
+// of 5: output stage 3.7 -> 7.4 s). With the wider rule in one pass, 7 failures, one
 // 25 ε deep (a flap of a joined loop was left, the loop failed and a large buried patch was
 // kept). Tried and dropped: leaving out only the flaps of loops still bad after the fans, in
 // the next selection round (6 failures, one envelope self-intersecting), and both ways
