@@ -2307,9 +2307,11 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
   for (int pass = 0; pass < kFlapPasses; ++pass) {
     // Per loop edge: its loop (-2: an edge of several loops); per loop, its points (as loop << 32
     // | point). A point may lie on several loops (they meet at it): a face's corners are looked
-    // up on the loop of its edge.
+    // up on the loop of its edge. A flap has its three corners on loops: the other faces are
+    // passed over at once (`on_a_loop`).
     std::unordered_map<std::uint64_t, int> edge_loop;
     std::unordered_set<std::uint64_t> loop_point;
+    std::vector<char> on_a_loop(V.size(), 0);
     auto loopPoint = [](std::size_t l, int v) { return static_cast<std::uint64_t>(l) << 32 | static_cast<std::uint32_t>(v); };
     for (std::size_t l = 0; l < loops.size(); ++l) {
       const std::vector<int>& loop = loops[l];
@@ -2317,9 +2319,13 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
         const auto [it, added] = edge_loop.emplace(edgeKey(loop[i], loop[(i + 1) % loop.size()]), static_cast<int>(l));
         if (!added && it->second != static_cast<int>(l)) it->second = -2;
         loop_point.insert(loopPoint(l, loop[i]));
+        on_a_loop[static_cast<std::size_t>(loop[i])] = 1;
       }
     }
     auto isFlap = [&](const Tri& t) {
+      if (!(on_a_loop[static_cast<std::size_t>(t[0])] && on_a_loop[static_cast<std::size_t>(t[1])] &&
+            on_a_loop[static_cast<std::size_t>(t[2])]))
+        return false;
       for (int k = 0; k < 3; ++k) {
         const auto it = edge_loop.find(edgeKey(t[k], t[(k + 1) % 3]));
         if (it != edge_loop.end() && it->second >= 0 &&
@@ -2611,16 +2617,24 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
       if (crack[f]) crack_region[f] = findRoot(parent, static_cast<int>(f));
   }
   std::vector<int> used(A.points.size(), -1);
+  // The faces that can be selected, in order: those of a patch that heads its group and has an
+  // empty side. Buried patches and crack walls are among them, so the rounds below look at these
+  // only. (With the flap test above, bunny00's screw at 1e-3, 4.0M faces and 12 rounds: output
+  // stage 7.4 -> 6.6 s, the same envelope.)
+  std::vector<int> selectable;
+  for (std::size_t f = 0; f < A.faces.size(); ++f) {
+    const int p = L.patch[f];
+    if (L.group[p] == p && emptySide(L, p)) selectable.push_back(static_cast<int>(f));
+  }
   // The selection, without the buried patches and the crack walls.
   auto select = [&]() {
     env.vertices.clear();
     env.triangles.clear();
     std::fill(used.begin(), used.end(), -1);
-    for (std::size_t f = 0; f < A.faces.size(); ++f) {
+    for (const int f : selectable) {
       const int p = L.patch[f];
-      if (L.group[p] != p || buried[p] || crack[f]) continue;
+      if (buried[p] || crack[f]) continue;
       const int side = emptySide(L, p);
-      if (!side) continue;
       Tri t = A.faces[f];
       if (side < 0) std::swap(t[1], t[2]);
       for (int& v : t) {
@@ -2672,7 +2686,7 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
     // redoing every mouth) are then kept together sooner.
     for (int ring = 0; ring < round - 2; ++ring) {
       std::vector<char> next = at_mouth;
-      for (std::size_t f = 0; f < A.faces.size(); ++f) {
+      for (const int f : selectable) {
         const Tri& t = A.faces[f];
         if ((buried[L.patch[f]] || crack[f]) && (at_mouth[t[0]] || at_mouth[t[1]] || at_mouth[t[2]]))
           next[t[0]] = next[t[1]] = next[t[2]] = 1;
@@ -2680,12 +2694,12 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
       at_mouth.swap(next);
     }
     std::set<int> kept_regions;
-    for (std::size_t f = 0; f < A.faces.size(); ++f) {
+    for (const int f : selectable) {
       if (!(at_mouth[A.faces[f][0]] || at_mouth[A.faces[f][1]] || at_mouth[A.faces[f][2]])) continue;
       buried[L.patch[f]] = 0;
       if (crack[f]) kept_regions.insert(crack_region[f]);
     }
-    for (std::size_t f = 0; f < A.faces.size(); ++f)
+    for (const int f : selectable)
       if (crack[f] && kept_regions.count(crack_region[f])) crack[f] = 0;
   }
   env.buried_patches_removed = static_cast<std::size_t>(std::count(buried.begin(), buried.end(), 1));
