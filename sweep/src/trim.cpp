@@ -2261,10 +2261,9 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
   auto fail = [&](const std::vector<int>& path) { trouble.insert(trouble.end(), path.begin(), path.end()); };
   std::vector<EdgeUse> surface_use;
   std::vector<std::vector<int>> loops;
-  // The surface's edge uses and its loops: unmatched directed edges a -> b (as the faces run),
+  // The surface's loops, from its edge uses: unmatched directed edges a -> b (as the faces run),
   // by their start, followed into loops.
   auto traceLoops = [&]() {
-    surface_use = edgeUses({&T});
     std::unordered_multimap<int, int> from;
     for (const EdgeUse& e : surface_use) {
       const std::uint64_t key = e.key;
@@ -2300,6 +2299,7 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
       }
     }
   };
+  surface_use = edgeUses({&T});
   traceLoops();
   // Flaps (see Flaps) are left out before the loops are filled, and the loops traced again,
   // up to kFlapPasses times: leaving flaps out joins loops into new ones, with flaps of their own.
@@ -2335,13 +2335,30 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
       return false;
     };
     std::size_t kept = 0;
+    std::vector<Tri> left_out;
     for (std::size_t g = 0; g < T.size(); ++g) {
       const Tri t = T[g];
-      if (!isFlap(t)) T[kept++] = t;
+      if (isFlap(t)) {
+        left_out.push_back(t);
+      } else {
+        T[kept++] = t;
+      }
     }
-    if (kept == T.size()) break;
-    flaps += T.size() - kept;
+    if (left_out.empty()) break;
+    flaps += left_out.size();
     T.resize(kept);
+    // The edge uses without the flaps (an edge left with no face keeps its entry, with 0 faces:
+    // the same as no entry for useOf and traceLoops).
+    for (const Tri& t : left_out)
+      for (int k = 0; k < 3; ++k) {
+        const int a = t[k], b = t[(k + 1) % 3];
+        const std::uint64_t key = edgeKey(a, b);
+        const auto u = std::lower_bound(surface_use.begin(), surface_use.end(), key,
+                                        [](const EdgeUse& e, std::uint64_t x) { return e.key < x; });
+        if (u == surface_use.end() || u->key != key) continue;  // (every face's edges are there)
+        --u->faces;
+        u->net -= a < b ? 1 : -1;
+      }
     traceLoops();
   }
   // Each loop's filling faces (empty when CGAL gives no triangulation of it). CGAL's triangles
