@@ -2252,8 +2252,9 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
     return out;
   };
   // The use of an edge in a sorted list of edge uses (none: 0 faces).
-  auto useOf = [](const std::vector<EdgeUse>& use, std::uint64_t key) {
-    const auto u = std::lower_bound(use.begin(), use.end(), key, [](const EdgeUse& e, std::uint64_t x) { return e.key < x; });
+  auto byKey = [](const EdgeUse& e, std::uint64_t x) { return e.key < x; };  // (for lower_bound)
+  auto useOf = [&byKey](const std::vector<EdgeUse>& use, std::uint64_t key) {
+    const auto u = std::lower_bound(use.begin(), use.end(), key, byKey);
     return u != use.end() && u->key == key ? *u : EdgeUse{key, 0, 0};
   };
   // Every failing path or loop is reported (in `trouble`), so that one round of the caller
@@ -2353,8 +2354,7 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
       for (int k = 0; k < 3; ++k) {
         const int a = t[k], b = t[(k + 1) % 3];
         const std::uint64_t key = edgeKey(a, b);
-        const auto u = std::lower_bound(surface_use.begin(), surface_use.end(), key,
-                                        [](const EdgeUse& e, std::uint64_t x) { return e.key < x; });
+        const auto u = std::lower_bound(surface_use.begin(), surface_use.end(), key, byKey);
         if (u == surface_use.end() || u->key != key) continue;  // (every face's edges are there)
         --u->faces;
         u->net -= a < b ? 1 : -1;
