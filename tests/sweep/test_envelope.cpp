@@ -388,15 +388,6 @@ TEST(Envelope, CrackMouthCornerOnTheBracketPolySamIsClosed) {
               c.undecided);
 }
 
-// A UV sphere on a random screw (a case of a seeded stress campaign): crack mouths whose every
-// triangulation repeats a surface edge as a diagonal (the surface crosses the mouth) could not
-// be closed, so their crack walls were kept, and an envelope vertex lay 5.05 eps inside the
-// body posed at tau 0.156. Such a mouth is now fanned around its mean point. Checked with the
-// certified oracle: every envelope vertex in a box of 100 eps about that vertex (42 of them)
-// is within T = 1.01 eps of the true boundary, and the output is one embedded shell, with no
-// crack face or buried patch kept. With the fan disabled, the vertex failed; since flaps are
-// left out too (see FlapsAcrossACrackMouthAreLeftOut), it passes, but 112 crack faces and 8
-// buried patches are kept.
 // Checks every vertex of env within 50 eps of `deep` (a vertex once found too deep) with the
 // certified oracle: at least 30 of them, none failing, at most 2% undecided; prints the counts
 // under `what`.
@@ -414,6 +405,15 @@ void expectCrackMouthClosed(const Envelope& env, const Mesh& m, const Motion3& m
               env.buried_patches_kept, env.crack_faces_kept);
 }
 
+// A UV sphere on a random screw (a case of a seeded stress campaign): crack mouths whose every
+// triangulation repeats a surface edge as a diagonal (the surface crosses the mouth) could not
+// be closed, so their crack walls were kept, and an envelope vertex lay 5.05 eps inside the
+// body posed at tau 0.156. Such a mouth is now fanned around its mean point. Checked with the
+// certified oracle: every envelope vertex in a box of 100 eps about that vertex (42 of them)
+// is within T = 1.01 eps of the true boundary, and the output is one embedded shell, with no
+// crack face or buried patch kept. With the fan disabled, the vertex failed; since flaps are
+// left out too (see FlapsAcrossACrackMouthAreLeftOut), it passes, but 70 crack faces and 5
+// buried patches are kept, which fails the test.
 TEST(Envelope, CrackMouthsThatOnlyAFanCanClose) {
   const Mesh m = uvSphere(6, 10, 0.6);
   Eigen::Matrix<double, 3, 4> b, c;
