@@ -128,6 +128,65 @@ void bucketSort(std::vector<T>& v, std::size_t buckets, Bucket bucket, int threa
   v.swap(out);
 }
 
+// A map from keys to ints with open addressing (linear probing, at most half full), for the
+// arrangement's sequential look-ups of millions of keys, where std::unordered_map's node per key
+// cost most of the time (bunny00's screw at 1e-3: 0.62M cut names and 0.85M points numbered on
+// one thread). Keys are compared with ==; `Hash` must mix all their bits. Pointers it returns
+// stay valid until the next insertion.
+template <class Key, class Hash>
+class FlatTable {
+ public:
+  // The value of `key`, inserted as `value` if absent, and whether it was inserted.
+  std::pair<int*, bool> emplace(const Key& key, int value) {
+    if (2 * (size_ + 1) > keys_.size()) grow();
+    std::size_t i = slot(key);
+    if (used_[i]) return {&values_[i], false};
+    used_[i] = 1, keys_[i] = key, values_[i] = value, ++size_;
+    return {&values_[i], true};
+  }
+  // The value of `key`, or nullptr.
+  const int* find(const Key& key) const {
+    if (keys_.empty()) return nullptr;
+    const std::size_t i = slot(key);
+    return used_[i] ? &values_[i] : nullptr;
+  }
+
+ private:
+  // The slot of `key`, or the free slot where it would go.
+  std::size_t slot(const Key& key) const {
+    const std::size_t mask = keys_.size() - 1;
+    std::size_t i = Hash()(key) & mask;
+    while (used_[i] && !(keys_[i] == key)) i = (i + 1) & mask;
+    return i;
+  }
+  void grow() {
+    std::vector<Key> keys;
+    std::vector<int> values;
+    std::vector<char> used;
+    keys.swap(keys_), values.swap(values_), used.swap(used_);
+    const std::size_t n = std::max<std::size_t>(64, 2 * keys.size());
+    keys_.assign(n, Key{}), values_.assign(n, 0), used_.assign(n, 0);
+    for (std::size_t i = 0; i < keys.size(); ++i)
+      if (used[i]) {
+        const std::size_t j = slot(keys[i]);
+        used_[j] = 1, keys_[j] = keys[i], values_[j] = values[i];
+      }
+  }
+  std::vector<Key> keys_;
+  std::vector<int> values_;
+  std::vector<char> used_;
+  std::size_t size_ = 0;
+};
+
+// Mixes the bits of a 64-bit key (the finalizer of MurmurHash3), for FlatTable.
+inline std::uint64_t mixBits(std::uint64_t x) {
+  x ^= x >> 33;
+  x *= 0xff51afd7ed558ccdull;
+  x ^= x >> 33;
+  x *= 0xc4ceb9fe1a85ec53ull;
+  return x ^ (x >> 33);
+}
+
 int findRoot(std::vector<int>& parent, int x) {
   while (parent[x] != x) x = parent[x] = parent[parent[x]];
   return x;
@@ -276,8 +335,8 @@ class PointIndex {
     const CGAL::Bbox_3 b = p.bbox();
     int found = -1;
     forCells(b, [&](std::uint64_t key) {
-      const auto it = head_.find(key);
-      for (int n = it == head_.end() ? -1 : it->second; n >= 0 && found < 0; n = nodes_[static_cast<std::size_t>(n)].next) {
+      const int* head = head_.find(key);
+      for (int n = head ? *head : -1; n >= 0 && found < 0; n = nodes_[static_cast<std::size_t>(n)].next) {
         const auto& q = points[static_cast<std::size_t>(nodes_[static_cast<std::size_t>(n)].id)];
         if (CGAL::do_overlap(b, q.bbox()) && q == p) found = nodes_[static_cast<std::size_t>(n)].id;
       }
@@ -288,9 +347,9 @@ class PointIndex {
   // Files point p under number id.
   void add(const EK::Point_3& p, int id) {
     forCells(p.bbox(), [&](std::uint64_t key) {
-      const auto [it, added] = head_.emplace(key, static_cast<int>(nodes_.size()));
-      nodes_.push_back({id, added ? -1 : it->second});
-      it->second = static_cast<int>(nodes_.size()) - 1;
+      const auto [head, added] = head_.emplace(key, static_cast<int>(nodes_.size()));
+      nodes_.push_back({id, added ? -1 : *head});
+      *head = static_cast<int>(nodes_.size()) - 1;
       return true;
     });
   }
@@ -317,7 +376,10 @@ class PointIndex {
   }
   Eigen::Vector3d origin_;
   double inv_;
-  std::unordered_map<std::uint64_t, int> head_;  // per cell: its last node
+  struct CellHash {
+    std::size_t operator()(std::uint64_t key) const { return static_cast<std::size_t>(mixBits(key)); }
+  };
+  FlatTable<std::uint64_t, CellHash> head_;  // per cell: its last node
   std::vector<Node> nodes_;
 };
 
@@ -696,23 +758,23 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   };
   struct CutHash {
     std::size_t operator()(const std::pair<std::uint64_t, int>& k) const {
-      return std::hash<std::uint64_t>()(k.first * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint64_t>(k.second));
+      return static_cast<std::size_t>(mixBits(k.first * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint32_t>(k.second)));
     }
   };
-  std::unordered_map<std::pair<std::uint64_t, int>, int, CutHash> cut_points;
+  FlatTable<std::pair<std::uint64_t, int>, CutHash> cut_points;
   // Per point: the edge (a, b) of the first cut that named it (0: none), so that the
   // triangulation of a triangle with that edge knows the point lies on it.
   std::vector<std::uint64_t> edge_of(ep.size(), 0);
   auto cutPoint = [&](const Cut& c) {
-    auto [it, added] = cut_points.emplace(std::make_pair(edgeKey(c.a, c.b), c.tri), -1);
+    const auto [name, added] = cut_points.emplace(std::make_pair(edgeKey(c.a, c.b), c.tri), -1);
     if (added) {
       const Tri& y = T[c.tri];
       const int id = pointId(linePlanePoint(ep[c.a], ep[c.b], ep[y[0]], ep[y[1]], ep[y[2]]));
       if (edge_of.size() <= static_cast<std::size_t>(id)) edge_of.resize(static_cast<std::size_t>(id) + 1, 0);
       if (!edge_of[id]) edge_of[id] = edgeKey(c.a, c.b);
-      it->second = id;
+      *name = id;
     }
-    return it->second;
+    return *name;
   };
   std::vector<std::vector<Constraint>> cons(T.size());
   // How each pair crosses, found by predicates alone in parallel: from a shared vertex to a cut
@@ -776,10 +838,10 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   using Name = std::array<int, 3>;
   struct NameHash {
     std::size_t operator()(const Name& n) const {
-      return std::hash<std::uint64_t>()((static_cast<std::uint64_t>(static_cast<std::uint32_t>(n[0])) << 32 |
-                                         static_cast<std::uint32_t>(n[1])) *
-                                            0x9E3779B97F4A7C15ull ^
-                                        static_cast<std::uint32_t>(n[2]));
+      return static_cast<std::size_t>(mixBits((static_cast<std::uint64_t>(static_cast<std::uint32_t>(n[0])) << 32 |
+                                               static_cast<std::uint32_t>(n[1])) *
+                                                  0x9E3779B97F4A7C15ull ^
+                                              static_cast<std::uint32_t>(n[2])));
     }
   };
   struct Retriangulation {
@@ -897,7 +959,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   };
   constexpr std::size_t kBlock = 4096;
   std::vector<Retriangulation> block;
-  std::unordered_map<Name, int, NameHash> named;
+  FlatTable<Name, NameHash> named;
   for (std::size_t t0 = 0; t0 < T.size(); t0 += kBlock) {
     if (options.progress)
       options.progress({"intersect", 0.5 + 0.5 * static_cast<double>(t0) / static_cast<double>(T.size())});
@@ -939,12 +1001,12 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
           fresh_id.push_back(pointId(r.fresh[k], &x));
           continue;
         }
-        auto [it, added] = named.emplace(r.names[k], 0);
+        const auto [id, added] = named.emplace(r.names[k], 0);
         if (added) {
           const Vec x = fixed(k);
-          it->second = pointId(r.fresh[k], &x);
+          *id = pointId(r.fresh[k], &x);
         }
-        fresh_id.push_back(it->second);
+        fresh_id.push_back(*id);
       }
       for (Tri x : r.faces) {
         for (int& v : x)
