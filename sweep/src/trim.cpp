@@ -1501,7 +1501,7 @@ std::size_t snapVertices(std::vector<Vec>& V, std::vector<Tri>& T) {
     std::size_t operator()(const std::array<long long, 3>& c) const {
       // (in unsigned arithmetic: cell indices reach 1e13, whose products overflow a signed type)
       const auto u = [](long long x) { return static_cast<unsigned long long>(x); };
-      return static_cast<std::size_t>(u(c[0]) * 73856093ULL ^ u(c[1]) * 19349663ULL ^ u(c[2]) * 83492791ULL);
+      return static_cast<std::size_t>(mixBits(u(c[0]) * 73856093ULL ^ u(c[1]) * 19349663ULL ^ u(c[2]) * 83492791ULL));
     }
   };
   auto cell = [&](const Vec& x) {
@@ -1509,9 +1509,22 @@ std::size_t snapVertices(std::vector<Vec>& V, std::vector<Tri>& T) {
                                       static_cast<long long>(std::floor((x.y() - lo.y()) / delta)),
                                       static_cast<long long>(std::floor((x.z() - lo.z()) / delta))}};
   };
-  std::unordered_map<std::array<long long, 3>, std::vector<int>, Hash> grid;
-  grid.reserve(V.size());
-  for (std::size_t v = 0; v < V.size(); ++v) grid[cell(V[v])].push_back(static_cast<int>(v));
+  // The occupied cells, numbered, and their vertices in increasing order (in_cell[first[c],
+  // first[c + 1])).
+  FlatTable<std::array<long long, 3>, Hash> cell_id;
+  std::vector<int> cell_of(V.size()), first{0};
+  for (std::size_t v = 0; v < V.size(); ++v) {
+    const auto [id, added] = cell_id.emplace(cell(V[v]), static_cast<int>(first.size()) - 1);
+    if (added) first.push_back(0);
+    cell_of[v] = *id;
+    ++first[static_cast<std::size_t>(*id) + 1];
+  }
+  std::partial_sum(first.begin(), first.end(), first.begin());
+  std::vector<int> in_cell(V.size());
+  {
+    std::vector<int> next(first.begin(), first.end() - 1);
+    for (std::size_t v = 0; v < V.size(); ++v) in_cell[static_cast<std::size_t>(next[static_cast<std::size_t>(cell_of[v])]++)] = static_cast<int>(v);
+  }
   std::vector<int> parent(V.size());
   std::iota(parent.begin(), parent.end(), 0);
   for (std::size_t v = 0; v < V.size(); ++v) {
@@ -1519,11 +1532,13 @@ std::size_t snapVertices(std::vector<Vec>& V, std::vector<Tri>& T) {
     for (long long dx = -1; dx <= 1; ++dx)
       for (long long dy = -1; dy <= 1; ++dy)
         for (long long dz = -1; dz <= 1; ++dz) {
-          auto it = grid.find({{c[0] + dx, c[1] + dy, c[2] + dz}});
-          if (it == grid.end()) continue;
-          for (int w : it->second)
+          const int* id = cell_id.find({{c[0] + dx, c[1] + dy, c[2] + dz}});
+          if (!id) continue;
+          for (int i = first[static_cast<std::size_t>(*id)]; i < first[static_cast<std::size_t>(*id) + 1]; ++i) {
+            const int w = in_cell[static_cast<std::size_t>(i)];
             if (w > static_cast<int>(v) && (V[w] - V[v]).cwiseAbs().maxCoeff() <= delta)
               parent[findRoot(parent, w)] = findRoot(parent, static_cast<int>(v));
+          }
         }
   }
   std::size_t merged = 0;
