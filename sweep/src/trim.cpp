@@ -69,6 +69,7 @@
 #include <random>
 #include <set>
 #include <string>
+#include <tuple>
 #include <unordered_map>
 #include <utility>
 #include <variant>
@@ -2272,14 +2273,16 @@ constexpr std::size_t kRefillPoints = 32;
 // the loops that failed before had no triangulation without such a diagonal (the surface
 // crosses the mouth). It is checked like any filling. When such a loop failed, the crack
 // walls and buried patches at it were kept, inside the swept volume (test_envelope.cpp's
-// CrackMouthsThatOnlyAFanCanClose: 5.05 ε deep). The apex must lie within kFanReach times the
-// tessellation tolerance (ε/2) of the loop's edges, so within 1.5 ε of the true boundary at
-// worst (the loop is within ε/2 of it): the mean of a long curved loop can lie far from it.
-// Of the elephant screw's 604 fans at 1e-3, 451 had their apex within this reach (most of
-// them 0.5 to 1 ε from the loop) and 8 beyond 2 ε. Without the limit the stress campaign's
-// torus polySAM (case 1504) had a cavity vertex 1.01 ε off the true boundary, an error that
-// nothing reports; with it, a convex body's affine span (case 1342) keeps a crack whose wall
-// is 2.1 ε deep, which Envelope::crack_faces_kept reports.
+// UvSphereScrewCrackMouthsClose: 5.05 ε deep; since the loops are paired by position, no
+// campaign case needs the fan, but bunny00's screw at 1e-3 keeps 1,164 crack faces without it
+// instead of 969). The apex must lie within kFanReach times the tessellation tolerance (ε/2)
+// of the loop's edges, so within 1.5 ε of the true boundary at worst (the loop is within ε/2
+// of it): the mean of a long curved loop can lie far from it. Of the elephant screw's 604
+// fans at 1e-3 (before the pairing by position; it has none now), 451 had their apex within
+// this reach (most of them 0.5 to 1 ε from the loop) and 8 beyond 2 ε. Without the limit the
+// stress campaign's torus polySAM (case 1504) had a cavity vertex 1.01 ε off the true
+// boundary, an error that nothing reports; with it, a convex body's affine span (case 1342)
+// kept a crack whose wall was 2.1 ε deep (reported by Envelope::crack_faces_kept).
 constexpr double kFanReach = 2.0;
 // Flap passes (see Flaps) before the loops are filled (bunny00's screw at 1e-3 finds flaps in
 // three: 12,512, 735 and 8 in its first round).
@@ -2297,7 +2300,8 @@ constexpr int kFlapPasses = 4;
 // faces) and the repeated passes: 2 failures (1.06 and 1.18 ε); kept crack faces and buried
 // patches on the screws at 1e-3: elephant 2,481 and 398 -> 1,771 and 236, knot1 2,810 and 207
 // -> 2,889 and 106, bunny00 3,936 and 1,674 -> 1,476 and 969 (but 12 selection rounds instead
-// of 5: output stage 3.7 -> 7.4 s). With the wider rule in one pass, 7 failures, one
+// of 5: output stage 3.7 -> 7.4 s; with the loops paired by position, see traceLoops, 3 rounds,
+// and the campaign passes every case). With the wider rule in one pass, 7 failures, one
 // 25 ε deep (a flap of a joined loop was left, the loop failed and a large buried patch was
 // kept). Tried and dropped: leaving out only the flaps of loops still bad after the fans, in
 // the next selection round (6 failures, one envelope self-intersecting), and both ways
@@ -2339,42 +2343,70 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
   std::vector<EdgeUse> surface_use;
   std::vector<std::vector<int>> loops;
   // The surface's loops, from its edge uses: unmatched directed edges a -> b (as the faces run),
-  // by their start, followed into loops.
+  // followed into loops. Where several loops meet at a point, which incoming edge is followed by
+  // which outgoing one decides the loops, and the flaps (see Flaps) depend on it. So the choice
+  // depends on the points alone: the edges are taken in the order of their ends' coordinates
+  // (lexicographic, then the point numbers), each walk from the least point with an edge left,
+  // and at every point the least edge left. (The walks followed a hash map's order before, which
+  // changed with edges elsewhere: on bunny00's screw at 1e-3 the mouths of one pocket were paired
+  // into other loops from the third selection round on, lost their flaps and failed, and a
+  // pocket winding along the screw was kept one part per round, 12 rounds in all; now 3. The
+  // stress campaign passes every case: 2 failed before, 1.06 and 1.18 ε deep.)
+  std::vector<int> next_edge(V.size(), 0), end_edge(V.size(), 0), place(V.size(), -1);
   auto traceLoops = [&]() {
-    std::unordered_multimap<int, int> from;
+    std::vector<std::pair<int, int>> edges;
     for (const EdgeUse& e : surface_use) {
-      const std::uint64_t key = e.key;
       const int n = e.net;
       if (n == 0) continue;
-      const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
-      for (int i = 0; i < std::abs(n); ++i) n > 0 ? from.emplace(a, b) : from.emplace(b, a);
+      const int a = static_cast<int>(e.key >> 32), b = static_cast<int>(e.key & 0xffffffffu);
+      for (int i = 0; i < std::abs(n); ++i) edges.push_back(n > 0 ? std::make_pair(a, b) : std::make_pair(b, a));
     }
+    auto before = [&](int x, int y) {
+      const Vec &p = V[static_cast<std::size_t>(x)], &q = V[static_cast<std::size_t>(y)];
+      return std::make_tuple(p.x(), p.y(), p.z(), x) < std::make_tuple(q.x(), q.y(), q.z(), y);
+    };
+    std::sort(edges.begin(), edges.end(), [&](const std::pair<int, int>& e, const std::pair<int, int>& f) {
+      if (e.first != f.first) return before(e.first, f.first);
+      return e.second != f.second && before(e.second, f.second);
+    });
+    for (std::size_t k = 0; k < edges.size(); ++k) {
+      const auto a = static_cast<std::size_t>(edges[k].first);
+      if (k == 0 || edges[k - 1].first != edges[k].first) next_edge[a] = static_cast<int>(k);
+      end_edge[a] = static_cast<int>(k) + 1;
+    }
+    auto left = [&](int v) { return next_edge[static_cast<std::size_t>(v)] < end_edge[static_cast<std::size_t>(v)]; };
     trouble.clear();
     loops.clear();
-    while (!from.empty()) {
-      std::vector<int> path{from.begin()->first};
-      std::unordered_map<int, std::size_t> at{{path[0], 0}};
-      for (;;) {
-        auto it = from.find(path.back());
-        if (it == from.end()) {  // a dead end: these edges form no loop
-          fail(path);
-          break;
+    std::vector<int> path;
+    for (const auto& start : edges) {
+      while (left(start.first)) {
+        path.assign(1, start.first);
+        place[static_cast<std::size_t>(start.first)] = 0;
+        for (;;) {
+          if (!left(path.back())) {  // a dead end: these edges form no loop
+            fail(path);
+            for (const int v : path) place[static_cast<std::size_t>(v)] = -1;
+            break;
+          }
+          const int next = edges[static_cast<std::size_t>(next_edge[static_cast<std::size_t>(path.back())]++)].second;
+          const int seen = place[static_cast<std::size_t>(next)];
+          if (seen < 0) {
+            place[static_cast<std::size_t>(next)] = static_cast<int>(path.size());
+            path.push_back(next);
+            continue;
+          }
+          // A loop from the first visit of `next` to here; the path before it goes on.
+          loops.emplace_back(path.begin() + seen, path.end());
+          for (std::size_t i = static_cast<std::size_t>(seen) + 1; i < path.size(); ++i) place[static_cast<std::size_t>(path[i])] = -1;
+          path.resize(static_cast<std::size_t>(seen) + 1);
+          if (path.size() == 1 && !left(path[0])) {
+            place[static_cast<std::size_t>(path[0])] = -1;
+            break;
+          }
         }
-        const int next = it->second;
-        from.erase(it);
-        auto seen = at.find(next);
-        if (seen == at.end()) {
-          at[next] = path.size();
-          path.push_back(next);
-          continue;
-        }
-        // A loop from the first visit of `next` to here; the path before it goes on.
-        loops.emplace_back(path.begin() + static_cast<std::ptrdiff_t>(seen->second), path.end());
-        for (std::size_t i = seen->second + 1; i < path.size(); ++i) at.erase(path[i]);
-        path.resize(seen->second + 1);
-        if (path.size() == 1 && !from.count(path[0])) break;
       }
     }
+    for (const auto& e : edges) next_edge[static_cast<std::size_t>(e.first)] = end_edge[static_cast<std::size_t>(e.first)] = 0;
   };
   surface_use = edgeUses({&T});
   traceLoops();
@@ -2739,8 +2771,8 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
   std::vector<int> used(A.points.size(), -1);
   // The faces that can be selected, in order: those of a patch that heads its group and has an
   // empty side. Buried patches and crack walls are among them, so the rounds below look at these
-  // only. (With the flap test above, bunny00's screw at 1e-3, 4.0M faces and 12 rounds: output
-  // stage 7.4 -> 6.6 s, the same envelope.)
+  // only. (On bunny00's screw at 1e-3, 4.0M faces and then 12 rounds: output stage 7.4 -> 6.6
+  // s, the same envelope.)
   std::vector<int> selectable;
   for (std::size_t f = 0; f < A.faces.size(); ++f) {
     const int p = L.patch[f];
