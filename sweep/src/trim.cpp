@@ -193,6 +193,26 @@ int findRoot(std::vector<int>& parent, int x) {
   return x;
 }
 
+// Items 0 .. n-1 grouped by key(i) (an int below `groups`), each group in increasing item order:
+// group g holds items[first[g]] .. items[first[g + 1] - 1]. One counting pass and a scatter.
+struct Groups {
+  std::vector<int> first, items;
+  // The items of group g.
+  const int* begin(int g) const { return items.data() + first[static_cast<std::size_t>(g)]; }
+  const int* end(int g) const { return items.data() + first[static_cast<std::size_t>(g) + 1]; }
+};
+template <class Key>
+Groups groupBy(std::size_t n, std::size_t groups, Key&& key) {
+  Groups out;
+  out.first.assign(groups + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) ++out.first[static_cast<std::size_t>(key(i)) + 1];
+  std::partial_sum(out.first.begin(), out.first.end(), out.first.begin());
+  out.items.resize(n);
+  std::vector<int> next(out.first.begin(), out.first.end() - 1);
+  for (std::size_t i = 0; i < n; ++i) out.items[static_cast<std::size_t>(next[static_cast<std::size_t>(key(i))]++)] = static_cast<int>(i);
+  return out;
+}
+
 std::uint64_t edgeKey(int a, int b) {
   if (a > b) std::swap(a, b);
   return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
@@ -1510,22 +1530,16 @@ std::size_t snapVertices(std::vector<Vec>& V, std::vector<Tri>& T) {
                                       static_cast<long long>(std::floor((x.y() - lo.y()) / delta)),
                                       static_cast<long long>(std::floor((x.z() - lo.z()) / delta))}};
   };
-  // The occupied cells, numbered, and their vertices in increasing order (in_cell[first[c],
-  // first[c + 1])).
+  // The occupied cells, numbered, and their vertices in increasing order.
   FlatTable<std::array<long long, 3>, Hash> cell_id;
-  std::vector<int> cell_of(V.size()), first{0};
+  std::vector<int> cell_of(V.size());
+  int cells = 0;
   for (std::size_t v = 0; v < V.size(); ++v) {
-    const auto [id, added] = cell_id.emplace(cell(V[v]), static_cast<int>(first.size()) - 1);
-    if (added) first.push_back(0);
+    const auto [id, added] = cell_id.emplace(cell(V[v]), cells);
+    cells += added;
     cell_of[v] = *id;
-    ++first[static_cast<std::size_t>(*id) + 1];
   }
-  std::partial_sum(first.begin(), first.end(), first.begin());
-  std::vector<int> in_cell(V.size());
-  {
-    std::vector<int> next(first.begin(), first.end() - 1);
-    for (std::size_t v = 0; v < V.size(); ++v) in_cell[static_cast<std::size_t>(next[static_cast<std::size_t>(cell_of[v])]++)] = static_cast<int>(v);
-  }
+  const Groups in_cell = groupBy(V.size(), static_cast<std::size_t>(cells), [&](std::size_t v) { return cell_of[v]; });
   std::vector<int> parent(V.size());
   std::iota(parent.begin(), parent.end(), 0);
   for (std::size_t v = 0; v < V.size(); ++v) {
@@ -1535,11 +1549,9 @@ std::size_t snapVertices(std::vector<Vec>& V, std::vector<Tri>& T) {
         for (long long dz = -1; dz <= 1; ++dz) {
           const int* id = cell_id.find({{c[0] + dx, c[1] + dy, c[2] + dz}});
           if (!id) continue;
-          for (int i = first[static_cast<std::size_t>(*id)]; i < first[static_cast<std::size_t>(*id) + 1]; ++i) {
-            const int w = in_cell[static_cast<std::size_t>(i)];
-            if (w > static_cast<int>(v) && (V[w] - V[v]).cwiseAbs().maxCoeff() <= delta)
-              parent[findRoot(parent, w)] = findRoot(parent, static_cast<int>(v));
-          }
+          for (const int* w = in_cell.begin(*id); w != in_cell.end(*id); ++w)
+            if (*w > static_cast<int>(v) && (V[*w] - V[v]).cwiseAbs().maxCoeff() <= delta)
+              parent[findRoot(parent, *w)] = findRoot(parent, static_cast<int>(v));
         }
   }
   std::size_t merged = 0;
@@ -2414,29 +2426,24 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
   // up to kFlapPasses times: leaving flaps out joins loops into new ones, with flaps of their own.
   flaps = 0;
   for (int pass = 0; pass < kFlapPasses; ++pass) {
-    // Per point: the loops it lies on, with its place in each (`first` indexes `at`). A point may
-    // lie on several loops (they meet at it), so an edge is looked up through the loops of one
-    // of its ends, and a face's third corner on the loop of its edge. A point on no loop has an
-    // empty range: a flap has its three corners on loops, and the other faces are passed over
-    // at once. (Hash maps of the loop edges and points took most of the passes' time: on
-    // bunny00's screw at 1e-3, 0.041 s a round.)
-    std::vector<int> first(V.size() + 1, 0);
-    for (const std::vector<int>& loop : loops)
-      for (const int v : loop) ++first[static_cast<std::size_t>(v) + 1];
-    for (std::size_t v = 0; v < V.size(); ++v) first[v + 1] += first[v];
-    std::vector<std::pair<int, int>> at(static_cast<std::size_t>(first.back()));  // (loop, place)
-    {
-      std::vector<int> next(first.begin(), first.end() - 1);
-      for (std::size_t l = 0; l < loops.size(); ++l)
-        for (std::size_t i = 0; i < loops[l].size(); ++i)
-          at[static_cast<std::size_t>(next[static_cast<std::size_t>(loops[l][i])]++)] = {static_cast<int>(l), static_cast<int>(i)};
-    }
-    auto onLoop = [&](int v) { return first[static_cast<std::size_t>(v)] < first[static_cast<std::size_t>(v) + 1]; };
+    // Per point: the loops it lies on, with its place in each (the spots grouped by point). A
+    // point may lie on several loops (they meet at it), so an edge is looked up through the loops
+    // of one of its ends, and a face's third corner on the loop of its edge. A point on no loop
+    // has no spot: a flap has its three corners on loops, and the other faces are passed over at
+    // once. (Hash maps of the loop edges and points took most of the passes' time: on bunny00's
+    // screw at 1e-3, 0.041 s a round.)
+    std::vector<std::pair<int, int>> spots;  // (loop, place) of every loop point
+    for (std::size_t l = 0; l < loops.size(); ++l)
+      for (std::size_t i = 0; i < loops[l].size(); ++i) spots.emplace_back(static_cast<int>(l), static_cast<int>(i));
+    const Groups at = groupBy(spots.size(), V.size(), [&](std::size_t j) {
+      return loops[static_cast<std::size_t>(spots[j].first)][static_cast<std::size_t>(spots[j].second)];
+    });
+    auto onLoop = [&](int v) { return at.begin(v) != at.end(v); };
     // The loop that has the edge a-b (-1: none; -2: several).
     auto edgeLoop = [&](int a, int b) {
       int found = -1;
-      for (int e = first[static_cast<std::size_t>(a)]; e < first[static_cast<std::size_t>(a) + 1]; ++e) {
-        const auto [l, i] = at[static_cast<std::size_t>(e)];
+      for (const int* j = at.begin(a); j != at.end(a); ++j) {
+        const auto [l, i] = spots[static_cast<std::size_t>(*j)];
         const std::vector<int>& loop = loops[static_cast<std::size_t>(l)];
         const std::size_t n = loop.size();
         if (loop[(static_cast<std::size_t>(i) + 1) % n] != b && loop[(static_cast<std::size_t>(i) + n - 1) % n] != b) continue;
@@ -2451,8 +2458,8 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
         const int l = edgeLoop(t[k], t[(k + 1) % 3]);
         if (l < 0) continue;
         const int c = t[(k + 2) % 3];
-        for (int e = first[static_cast<std::size_t>(c)]; e < first[static_cast<std::size_t>(c) + 1]; ++e)
-          if (at[static_cast<std::size_t>(e)].first == l) return true;
+        for (const int* j = at.begin(c); j != at.end(c); ++j)
+          if (spots[static_cast<std::size_t>(*j)].first == l) return true;
       }
       return false;
     };
