@@ -20,8 +20,9 @@ namespace steady::sweep::detail {
 // A bounding-volume hierarchy of the boxes of triangles: median splits of the box centres along
 // the longest axis, up to 4 triangles per leaf. The nodes' boxes are stored in float, rounded
 // outward, and the triangles' own boxes are computed from their vertices when a leaf is reached
-// (a large arrangement has millions of faces), so every query may report a few more triangles
-// than the exact boxes would, never fewer. Its queries only read it, so they may run
+// (a large arrangement has millions of faces). Box queries round their box outward to float
+// once and test the nodes in float; the faces' own boxes are tested in double, so they report
+// exactly the faces whose boxes meet the query's. Its queries only read it, so they may run
 // concurrently.
 class FaceTree {
  public:
@@ -66,20 +67,48 @@ class FaceTree {
   // Calls visit(f) for every face whose box meets the box [lo, hi].
   template <class Visit>
   void overlapping(const Vec& lo, const Vec& hi, Visit&& visit) const {
-    auto meets = [&](const Box& b) { return !((b.lo.array() > hi.array()).any() || (lo.array() > b.hi.array()).any()); };
-    forEach(meets, [&](int f) {
-      if (meets(faceBox(f))) visit(f);
-    });
+    const Vec3f flo = down(lo), fhi = up(hi);
+    forEach([&](const Node& n) { return meets(n.lo, n.hi, flo, fhi); },
+            [&](int f) {
+              if (faceMeets(f, lo, hi)) visit(f);
+            });
+  }
+
+  // The number of faces, and the face at place k (0 <= k < size()) of the tree's order.
+  std::size_t size() const { return order_.size(); }
+  int faceAt(std::size_t k) const { return order_[k]; }
+
+  // As overlapping(), for the faces after place k of the tree's order only: called from each
+  // face's place with its own box, it reports every pair of faces whose boxes meet once, and
+  // prunes the subtrees wholly before k.
+  template <class Visit>
+  void overlappingAfter(std::size_t k, const Vec& lo, const Vec& hi, Visit&& visit) const {
+    if (nodes_.empty()) return;
+    const Vec3f flo = down(lo), fhi = up(hi);
+    std::array<int, 128> stack;
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& n = nodes_[stack[--top]];
+      if (static_cast<std::size_t>(n.first + n.count) <= k + 1 || !meets(n.lo, n.hi, flo, fhi)) continue;
+      if (n.left < 0) {
+        for (int i = std::max(n.first, static_cast<int>(k) + 1); i < n.first + n.count; ++i)
+          if (faceMeets(order_[i], lo, hi)) visit(order_[i]);
+      } else {
+        stack[top++] = n.right;
+        stack[top++] = n.left;
+      }
+    }
   }
 
   // Calls keep_going(f) for the faces whose boxes meet the box [lo, hi] until it returns false.
   template <class Visit>
   void overlappingUntil(const Vec& lo, const Vec& hi, Visit&& keep_going) const {
     bool stop = false;
-    auto meets = [&](const Box& b) { return !((b.lo.array() > hi.array()).any() || (lo.array() > b.hi.array()).any()); };
-    forEach([&](const Box& b) { return !stop && meets(b); },
+    const Vec3f flo = down(lo), fhi = up(hi);
+    forEach([&](const Node& n) { return !stop && meets(n.lo, n.hi, flo, fhi); },
             [&](int f) {
-              if (!stop && meets(faceBox(f))) stop = !keep_going(f);
+              if (!stop && faceMeets(f, lo, hi)) stop = !keep_going(f);
             });
   }
 
@@ -112,9 +141,10 @@ class FaceTree {
       }
       return true;
     };
-    forEach(hits, [&](int f) {
-      if (hits(faceBox(f))) visit(f);
-    });
+    forEach([&](const Node& n) { return hits(Box{n.lo.cast<double>(), n.hi.cast<double>()}); },
+            [&](int f) {
+              if (hits(faceBox(f))) visit(f);
+            });
   }
 
  private:
@@ -142,6 +172,21 @@ class FaceTree {
     return r;
   }
 
+  // Whether the boxes [alo, ahi] and [blo, bhi] meet (closed boxes; float or double).
+  template <class V3>
+  static bool meets(const V3& alo, const V3& ahi, const V3& blo, const V3& bhi) {
+    return !(alo[0] > bhi[0] || alo[1] > bhi[1] || alo[2] > bhi[2] || blo[0] > ahi[0] || blo[1] > ahi[1] ||
+             blo[2] > ahi[2]);
+  }
+  // Whether the box of face f meets [lo, hi] (in double).
+  bool faceMeets(int f, const Vec& lo, const Vec& hi) const {
+    const std::array<int, 3>& t = (*F_)[static_cast<std::size_t>(f)];
+    const Vec &a = (*V_)[t[0]], &b = (*V_)[t[1]], &c = (*V_)[t[2]];
+    for (int k = 0; k < 3; ++k)
+      if (std::min({a[k], b[k], c[k]}) > hi[k] || lo[k] > std::max({a[k], b[k], c[k]})) return false;
+    return true;
+  }
+
   Box faceBox(int f) const {
     const std::array<int, 3>& t = (*F_)[static_cast<std::size_t>(f)];
     const Vec &a = (*V_)[t[0]], &b = (*V_)[t[1]], &c = (*V_)[t[2]];
@@ -156,7 +201,7 @@ class FaceTree {
     stack[top++] = 0;
     while (top > 0) {
       const Node& n = nodes_[stack[--top]];
-      if (!test(Box{n.lo.cast<double>(), n.hi.cast<double>()})) continue;
+      if (!test(n)) continue;
       if (n.left < 0) {
         for (int i = n.first; i < n.first + n.count; ++i) visit(order_[i]);
       } else {
