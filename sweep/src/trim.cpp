@@ -2618,7 +2618,13 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
     };
     CGAL::box_self_intersection_d(fresh_boxes.begin(), fresh_boxes.end(), test);
     CGAL::box_intersection_d(fresh_boxes.begin(), fresh_boxes.end(), other_boxes.begin(), other_boxes.end(), test);
-    for (const auto& [a, b] : fill_crossings) bad[static_cast<std::size_t>(a)] = bad[static_cast<std::size_t>(b)] = 1;
+    // A filling that crosses only the fillings of loops bad on their own counts as good: those
+    // fillings are not used, and the round keeps the patches at their loops alone (the next
+    // round checks every filling again).
+    const std::vector<char> alone = bad;
+    for (const auto& [a, b] : fill_crossings)
+      if (!alone[static_cast<std::size_t>(a)] && !alone[static_cast<std::size_t>(b)])
+        bad[static_cast<std::size_t>(a)] = bad[static_cast<std::size_t>(b)] = 1;
     return bad;
   };
   // Loop l filled again, avoiding what made its first filling bad: the best triangulation,
