@@ -20,10 +20,12 @@ namespace steady::sweep::detail {
 // A bounding-volume hierarchy of the boxes of triangles: median splits of the box centres along
 // the longest axis, up to 4 triangles per leaf. The nodes' boxes are stored in float, rounded
 // outward, and the triangles' own boxes are computed from their vertices when a leaf is reached
-// (a large arrangement has millions of faces). Box queries round their box outward to float
-// once and test the nodes in float; the faces' own boxes are tested in double, so they report
-// exactly the faces whose boxes meet the query's. Its queries only read it, so they may run
-// concurrently.
+// (a large arrangement has millions of faces). Box queries round their box to the nearest
+// floats once and test the nodes in float: rounding to nearest is monotone and a node's box is
+// rounded outward from its faces' double coordinates, so a node whose faces meet the query in
+// double passes (lo_f <= hi implies down(lo_f) <= nearest(lo_f) <= nearest(hi)). The faces'
+// own boxes are tested in double, so the queries report exactly the faces whose boxes meet the
+// query's. Its queries only read it, so they may run concurrently.
 class FaceTree {
  public:
   using Vec = Eigen::Vector3d;
@@ -67,7 +69,7 @@ class FaceTree {
   // Calls visit(f) for every face whose box meets the box [lo, hi].
   template <class Visit>
   void overlapping(const Vec& lo, const Vec& hi, Visit&& visit) const {
-    const Vec3f flo = down(lo), fhi = up(hi);
+    const Vec3f flo = lo.cast<float>(), fhi = hi.cast<float>();
     forEach([&](const Node& n) { return meets(n.lo, n.hi, flo, fhi); },
             [&](int f) {
               if (faceMeets(f, lo, hi)) visit(f);
@@ -84,7 +86,7 @@ class FaceTree {
   template <class Visit>
   void overlappingAfter(std::size_t k, const Vec& lo, const Vec& hi, Visit&& visit) const {
     if (nodes_.empty()) return;
-    const Vec3f flo = down(lo), fhi = up(hi);
+    const Vec3f flo = lo.cast<float>(), fhi = hi.cast<float>();
     std::array<int, 128> stack;
     int top = 0;
     stack[top++] = 0;
@@ -105,7 +107,7 @@ class FaceTree {
   template <class Visit>
   void overlappingUntil(const Vec& lo, const Vec& hi, Visit&& keep_going) const {
     bool stop = false;
-    const Vec3f flo = down(lo), fhi = up(hi);
+    const Vec3f flo = lo.cast<float>(), fhi = hi.cast<float>();
     forEach([&](const Node& n) { return !stop && meets(n.lo, n.hi, flo, fhi); },
             [&](int f) {
               if (!stop && faceMeets(f, lo, hi)) stop = !keep_going(f);

@@ -77,4 +77,63 @@ TEST(FaceTree, BoxQueriesMatchBruteForceOnAnyNumberOfThreads) {
   }
 }
 
+// Each pair of faces whose boxes meet, met once: from every place k of the tree's order, the
+// faces after k whose boxes meet the box of the face at k. Also the boxes that touch a face's
+// box only at its faces' exact coordinates (doubles that no float equals), which the float node
+// tests must not lose.
+TEST(FaceTree, PairsFromEachPlaceMatchBruteForceOnce) {
+  for (const std::size_t n : {1u, 2u, 7u, 600u, 40000u}) {
+    const Soup s = randomSoup(n, 31 + n);
+    FaceTree tree;
+    tree.build(s.V, s.F, 2);
+    ASSERT_EQ(tree.size(), s.F.size());
+    auto box = [&](int f) {
+      const Vec& a = s.V[s.F[f][0]];
+      const Vec& b = s.V[s.F[f][1]];
+      const Vec& c = s.V[s.F[f][2]];
+      return std::make_pair(Vec(a.cwiseMin(b).cwiseMin(c)), Vec(a.cwiseMax(b).cwiseMax(c)));
+    };
+    auto meet = [&](int f, int g) {
+      const auto [flo, fhi] = box(f);
+      const auto [glo, ghi] = box(g);
+      return !((flo.array() > ghi.array()).any() || (glo.array() > fhi.array()).any());
+    };
+    std::vector<std::pair<int, int>> found;
+    std::vector<char> seen(s.F.size(), 0);
+    for (std::size_t k = 0; k < tree.size(); ++k) {
+      const int f = tree.faceAt(k);
+      seen[static_cast<std::size_t>(f)] = 1;
+      const auto [lo, hi] = box(f);
+      tree.overlappingAfter(k, lo, hi, [&](int g) { found.emplace_back(std::min(f, g), std::max(f, g)); });
+    }
+    EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), static_cast<long>(s.F.size())) << "every face has one place";
+    std::sort(found.begin(), found.end());
+    std::vector<std::pair<int, int>> expect;
+    if (n <= 600) {  // (brute force over all pairs)
+      for (int f = 0; f < static_cast<int>(s.F.size()); ++f)
+        for (int g = f + 1; g < static_cast<int>(s.F.size()); ++g)
+          if (meet(f, g)) expect.emplace_back(f, g);
+      EXPECT_EQ(found, expect) << n << " faces";
+    } else {  // (the pairs again through plain box queries)
+      for (int f = 0; f < static_cast<int>(s.F.size()); ++f) {
+        const auto [lo, hi] = box(f);
+        for (const int g : boxQuery(tree, lo, hi))
+          if (g > f) expect.emplace_back(f, g);
+      }
+      EXPECT_EQ(found, expect) << n << " faces";
+    }
+    // A query box that only touches face f (its box shifted to end where f's begins) finds f.
+    for (int f = 0; f < static_cast<int>(std::min<std::size_t>(s.F.size(), 200)); ++f) {
+      const auto [lo, hi] = box(f);
+      for (int k = 0; k < 3; ++k) {
+        Vec qlo = lo, qhi = hi;
+        qlo[k] = lo[k] - 0.3;
+        qhi[k] = lo[k];
+        const std::vector<int> got = boxQuery(tree, qlo, qhi);
+        EXPECT_TRUE(std::binary_search(got.begin(), got.end(), f)) << "face " << f << " touched along axis " << k;
+      }
+    }
+  }
+}
+
 }  // namespace
