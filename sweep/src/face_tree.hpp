@@ -71,8 +71,8 @@ class FaceTree {
   void overlapping(const Vec& lo, const Vec& hi, Visit&& visit) const {
     const Vec3f flo = lo.cast<float>(), fhi = hi.cast<float>();
     forEach([&](const Node& n) { return meets(n.lo, n.hi, flo, fhi); },
-            [&](int f) {
-              if (faceMeets(f, lo, hi)) visit(f);
+            [&](int i) {
+              if (faceMeets(order_[i], lo, hi)) visit(order_[i]);
             });
   }
 
@@ -85,22 +85,14 @@ class FaceTree {
   // prunes the subtrees wholly before k.
   template <class Visit>
   void overlappingAfter(std::size_t k, const Vec& lo, const Vec& hi, Visit&& visit) const {
-    if (nodes_.empty()) return;
     const Vec3f flo = lo.cast<float>(), fhi = hi.cast<float>();
-    std::array<int, 128> stack;
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-      const Node& n = nodes_[stack[--top]];
-      if (static_cast<std::size_t>(n.first + n.count) <= k + 1 || !meets(n.lo, n.hi, flo, fhi)) continue;
-      if (n.left < 0) {
-        for (int i = std::max(n.first, static_cast<int>(k) + 1); i < n.first + n.count; ++i)
-          if (faceMeets(order_[i], lo, hi)) visit(order_[i]);
-      } else {
-        stack[top++] = n.right;
-        stack[top++] = n.left;
-      }
-    }
+    forEach(
+        [&](const Node& n) {
+          return static_cast<std::size_t>(n.first + n.count) > k + 1 && meets(n.lo, n.hi, flo, fhi);
+        },
+        [&](int i) {
+          if (static_cast<std::size_t>(i) > k && faceMeets(order_[i], lo, hi)) visit(order_[i]);
+        });
   }
 
   // Calls keep_going(f) for the faces whose boxes meet the box [lo, hi] until it returns false.
@@ -109,8 +101,8 @@ class FaceTree {
     bool stop = false;
     const Vec3f flo = lo.cast<float>(), fhi = hi.cast<float>();
     forEach([&](const Node& n) { return !stop && meets(n.lo, n.hi, flo, fhi); },
-            [&](int f) {
-              if (!stop && faceMeets(f, lo, hi)) stop = !keep_going(f);
+            [&](int i) {
+              if (!stop && faceMeets(order_[i], lo, hi)) stop = !keep_going(order_[i]);
             });
   }
 
@@ -144,8 +136,8 @@ class FaceTree {
       return true;
     };
     forEach([&](const Node& n) { return hits(Box{n.lo.cast<double>(), n.hi.cast<double>()}); },
-            [&](int f) {
-              if (hits(faceBox(f))) visit(f);
+            [&](int i) {
+              if (hits(faceBox(order_[i]))) visit(order_[i]);
             });
   }
 
@@ -195,6 +187,8 @@ class FaceTree {
     return {a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c)};
   }
 
+  // Calls visit(i) for every place i (in order_) of the leaves reached through nodes that pass
+  // test(node).
   template <class NodeTest, class Visit>
   void forEach(NodeTest&& test, Visit&& visit) const {
     if (nodes_.empty()) return;
@@ -205,7 +199,7 @@ class FaceTree {
       const Node& n = nodes_[stack[--top]];
       if (!test(n)) continue;
       if (n.left < 0) {
-        for (int i = n.first; i < n.first + n.count; ++i) visit(order_[i]);
+        for (int i = n.first; i < n.first + n.count; ++i) visit(i);
       } else {
         stack[top++] = n.right;
         stack[top++] = n.left;
