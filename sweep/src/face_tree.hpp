@@ -174,11 +174,8 @@ class FaceTree {
   }
   // Whether the box of face f meets [lo, hi] (in double).
   bool faceMeets(int f, const Vec& lo, const Vec& hi) const {
-    const std::array<int, 3>& t = (*F_)[static_cast<std::size_t>(f)];
-    const Vec &a = (*V_)[t[0]], &b = (*V_)[t[1]], &c = (*V_)[t[2]];
-    for (int k = 0; k < 3; ++k)
-      if (std::min({a[k], b[k], c[k]}) > hi[k] || lo[k] > std::max({a[k], b[k], c[k]})) return false;
-    return true;
+    const Box b = faceBox(f);
+    return meets(b.lo, b.hi, lo, hi);
   }
 
   Box faceBox(int f) const {

@@ -305,7 +305,7 @@ bool crosses(const std::vector<Point>& P, const Tri& s, const Tri& t) {
 }
 
 // Planes of double triangles for a quick certified test that two triangles are apart: per
-// triangle (a, b, c), its corner a, its normal n = (b - a) x (c - a) in doubles and the normal's
+// triangle (a, b, c), its normal n = (b - a) x (c - a) in doubles and the normal's
 // permanent N = (|q_y r_z| + |q_z r_y|, ...) with q = b - a, r = c - a. For a point p and
 // w = p - a, n . w computed in doubles is the orientation determinant of (a, b, c, p) expanded
 // along w, and errs by at most about 8 units of 2^-53 of w . N (two roundings in the

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <random>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -36,6 +37,19 @@ Soup randomSoup(std::size_t n, std::uint64_t seed) {
   return s;
 }
 
+// The box of face f of s.
+std::pair<Vec, Vec> faceBox(const Soup& s, std::size_t f) {
+  const Vec& a = s.V[s.F[f][0]];
+  const Vec& b = s.V[s.F[f][1]];
+  const Vec& c = s.V[s.F[f][2]];
+  return {a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c)};
+}
+
+// Whether the closed boxes [alo, ahi] and [blo, bhi] meet (in double).
+bool boxesMeet(const Vec& alo, const Vec& ahi, const Vec& blo, const Vec& bhi) {
+  return !((alo.array() > bhi.array()).any() || (blo.array() > ahi.array()).any());
+}
+
 std::vector<int> boxQuery(const FaceTree& tree, const Vec& lo, const Vec& hi) {
   std::vector<int> out;
   tree.overlapping(lo, hi, [&](int f) { out.push_back(f); });
@@ -58,11 +72,8 @@ TEST(FaceTree, BoxQueriesMatchBruteForceOnAnyNumberOfThreads) {
       const Vec hi = lo + Vec(w(rng), w(rng), w(rng));
       std::vector<int> expect;
       for (std::size_t f = 0; f < s.F.size(); ++f) {
-        const Vec& a = s.V[s.F[f][0]];
-        const Vec& b = s.V[s.F[f][1]];
-        const Vec& c = s.V[s.F[f][2]];
-        const Vec flo = a.cwiseMin(b).cwiseMin(c), fhi = a.cwiseMax(b).cwiseMax(c);
-        if (!((flo.array() > hi.array()).any() || (lo.array() > fhi.array()).any())) expect.push_back(static_cast<int>(f));
+        const auto [flo, fhi] = faceBox(s, f);
+        if (boxesMeet(flo, fhi, lo, hi)) expect.push_back(static_cast<int>(f));
       }
       ASSERT_EQ(boxQuery(one, lo, hi), expect) << n << " faces, query " << q;
       ASSERT_EQ(boxQuery(two, lo, hi), expect) << n << " faces, query " << q << ", 2 threads";
@@ -87,17 +98,7 @@ TEST(FaceTree, PairsFromEachPlaceMatchBruteForceOnce) {
     FaceTree tree;
     tree.build(s.V, s.F, 2);
     ASSERT_EQ(tree.size(), s.F.size());
-    auto box = [&](int f) {
-      const Vec& a = s.V[s.F[f][0]];
-      const Vec& b = s.V[s.F[f][1]];
-      const Vec& c = s.V[s.F[f][2]];
-      return std::make_pair(Vec(a.cwiseMin(b).cwiseMin(c)), Vec(a.cwiseMax(b).cwiseMax(c)));
-    };
-    auto meet = [&](int f, int g) {
-      const auto [flo, fhi] = box(f);
-      const auto [glo, ghi] = box(g);
-      return !((flo.array() > ghi.array()).any() || (glo.array() > fhi.array()).any());
-    };
+    auto box = [&](int f) { return faceBox(s, static_cast<std::size_t>(f)); };
     std::vector<std::pair<int, int>> found;
     std::vector<char> seen(s.F.size(), 0);
     for (std::size_t k = 0; k < tree.size(); ++k) {
@@ -112,7 +113,7 @@ TEST(FaceTree, PairsFromEachPlaceMatchBruteForceOnce) {
     if (n <= 600) {  // (brute force over all pairs)
       for (int f = 0; f < static_cast<int>(s.F.size()); ++f)
         for (int g = f + 1; g < static_cast<int>(s.F.size()); ++g)
-          if (meet(f, g)) expect.emplace_back(f, g);
+          if (boxesMeet(box(f).first, box(f).second, box(g).first, box(g).second)) expect.emplace_back(f, g);
       EXPECT_EQ(found, expect) << n << " faces";
     } else {  // (the pairs again through plain box queries)
       for (int f = 0; f < static_cast<int>(s.F.size()); ++f) {
