@@ -45,7 +45,10 @@ struct Cycle {
 // Appends the cycle of `body` on `span` to `out`:
 //   Back (with the Grazing faces) at τ = 0, Front at τ = 1 (posed by `end_pose`, the span's
 //   end; a polySAM passes the next span's start so that joints coincide exactly, else null), and the
-//   strips swept by the boundary curves of Front, oriented with Front on their left.
+//   strips swept by the boundary curves of Front, oriented with Front on their left. A span that
+//   continues from the joint of the previous one puts the reversed Front at τ = 0 instead of
+//   Back: the polySAM's cycle is body(0) plus each span's Front(1) - Front(0) + strips (the
+//   reasoning is at the top of cycle.cpp), and its joints are left to cancelOpposite.
 // Caps are cut exactly along the grazing chords; every point where a strip meets a cap is a
 // vertex of both (no T-junction), so Q is closed as a chain: every directed edge is matched by
 // its reverse. eps is the tessellation tolerance (tessellation.hpp).
@@ -54,5 +57,12 @@ struct Cycle {
 // must be for the span that starts at `end_pose`: it starts from those vertices.
 void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affine3* end_pose, double eps,
                      const GrazingOptions& grazing, int max_steps, int span_index);
+
+// Removes from the cycle's triangles every pair of the same three vertices in opposite
+// orientations (their sum as a chain is zero, so the winding numbers stay), keeping the
+// triangles that remain in their order. A polySAM's joints cancel so: the end cap of one span
+// and the reversed start cap of the next (appendSpanCycle) share every face that both move
+// outward.
+void cancelOpposite(Cycle& cycle);
 
 }  // namespace steady::sweep::detail

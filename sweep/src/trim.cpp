@@ -2996,6 +2996,7 @@ Envelope sweptEnvelope(const Body& body, const Motion3& motion, const SweepOptio
                             options.grazing, options.max_steps,
                             static_cast<int>(i));
   }
+  if (n > 1) detail::cancelOpposite(cycle);
   const SweptVolume swept(body, motion);
   return envelopeOf(std::move(cycle), eps, n, options, [&](const Vec& x) { return swept.contains(x); }, t_start,
                     seconds(t_start));
