@@ -1642,10 +1642,17 @@ std::vector<int> shellForest(const std::vector<Tri>& T, const std::vector<std::p
 std::array<std::size_t, 2> dropThinShells(std::vector<Tri>& T, double eps, const std::vector<Vec>& V, int threads) {
   const std::vector<std::pair<std::uint64_t, int>> sides = edgeSides(T, V.size(), threads);
   std::vector<int> parent = shellForest(T, sides);
+  // Volumes about a corner of each shell (its first face's first), so that their rounding
+  // scales with the shell's own size: about the origin, the 2 faces of a sliver pillow a micron
+  // long, opposite copies of one triangle 1 at the elephant's scale, summed to 1.6e-20 instead of
+  // 0, 50 times its area times eps, and it stayed as a shell of its own.
   std::unordered_map<int, std::array<double, 2>> shell;  // root -> (volume, area)
+  std::unordered_map<int, Vec> origin;                   // root -> a vertex of the shell
   for (std::size_t f = 0; f < T.size(); ++f) {
-    const Vec &a = V[T[f][0]], &b = V[T[f][1]], &c = V[T[f][2]];
-    auto& x = shell[findRoot(parent, static_cast<int>(f))];
+    const int root = findRoot(parent, static_cast<int>(f));
+    const Vec& o = origin.emplace(root, V[T[f][0]]).first->second;
+    const Vec a = V[T[f][0]] - o, b = V[T[f][1]] - o, c = V[T[f][2]] - o;
+    auto& x = shell[root];
     x[0] += a.dot(b.cross(c)) / 6.0;
     x[1] += 0.5 * (b - a).cross(c - a).norm();
   }
