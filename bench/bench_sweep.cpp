@@ -12,6 +12,9 @@
 //            half a diameter off the body's centre, plus an advance of one diameter (1) along it;
 //   affine - a 60° turn about the axis (1, 1, 3), scaling (1.3, 0.8, 1.1) and a shear of 0.2
 //            (x += 0.2 z), then a move of (0.1, 0.05, -1): one diameter down.
+// A polySAM: `keys` - the bundled motion data/motions/keys.json (five key poses joined by two
+//            C1 bi-arcs: a tumble along x over 8 diameters, with turns up to 150° and scaling),
+//            as SAM spans within the file's pose tolerance (1e-3 of the body box diagonal).
 // Benchmarks (wall-clock time, one sweep per iteration; bodies are loaded and validated once,
 // outside):
 //   BM_SteadySweep/<mesh>/<motion>/eps<e>   sweptEnvelope with relative_tolerance e (default
@@ -19,6 +22,8 @@
 //                                           included in the time). eps1e-4 is the fine
 //                                           reference whose volume the others are compared to;
 //                                           eps1e-2 is a coarse tolerance.
+//   BM_SteadySweepMotion/<mesh>/keys      sweptEnvelope of the polySAM at eps 1e-3 (counter
+//                                           spans: its span count)
 //   BM_VdbSweep/<mesh>/<motion>/h<k>_N<n>   vdbSampledSweep with voxel size k x 1e-3 and n poses;
 //                                           N<auto> means samplesForStep(voxel): no vertex moves
 //                                           more than a voxel between two samples (settings:
@@ -49,6 +54,7 @@
 #include <steady/core/ear.hpp>
 #include <steady/core/error.hpp>
 #include <steady/io/mesh.hpp>
+#include <steady/io/motion_file.hpp>
 #include <steady/sweep/body.hpp>
 #include <steady/sweep/envelope.hpp>
 
@@ -67,8 +73,10 @@
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -190,9 +198,9 @@ double peakMegabytes() {
 }
 
 // The counters both sides share: sizes, volume, containment error, reference difference.
-void errorCounters(benchmark::State& state, const SweepBody& b, const steady::Span3& span, const std::string& k,
-                   const std::vector<V>& vertices, const std::vector<std::array<int, 3>>& triangles,
-                   double volume) {
+void errorCounters(benchmark::State& state, const SweepBody& b, const std::function<steady::Affine3(double)>& pose,
+                   const std::string& k, const std::vector<V>& vertices,
+                   const std::vector<std::array<int, 3>>& triangles, double volume) {
   state.counters["faces_in"] = static_cast<double>(b.mesh.faces.size());
   state.counters["faces_out"] = static_cast<double>(triangles.size());
   state.counters["volume"] = volume;
@@ -202,37 +210,36 @@ void errorCounters(benchmark::State& state, const SweepBody& b, const steady::Sp
   if (triangles.empty()) return;
   const steady::bench::MeshQuery query(vertices, triangles);
   const steady::bench::Containment c = steady::bench::containmentError(
-      query, b.mesh.vertices, [&](double t) { return span.pose(t); }, kErrorTimes, kErrorVertices, kErrorSeed, kEps);
+      query, b.mesh.vertices, pose, kErrorTimes, kErrorVertices, kErrorSeed, kEps);
   state.counters["err_out"] = c.max_outside;
   state.counters["n_out_eps"] = static_cast<double>(c.outside);
   state.counters["err_points"] = static_cast<double>(c.points);
 }
 
-void BM_SteadySweep(benchmark::State& state, const std::string& mesh, bool screw, double eps) {
-  const SweepBody& b = sweepBody(mesh);
+// Sweeps `b` along `motion` (a Span3 or a Motion3) once per iteration and reports the counters of
+// the envelope; false (the state skipped with the error) when the body is invalid or it threw.
+template <class Motion>
+bool steadySweep(benchmark::State& state, const SweepBody& b, const Motion& motion, double eps,
+                 steady::sweep::Envelope& env) {
   if (!b.body) {
     state.SkipWithError(("invalid body: " + b.invalid).c_str());
-    return;
+    return false;
   }
-  const steady::Span3 span = spanFor(screw);
   steady::sweep::SweepOptions options;
   options.relative_tolerance = eps;
-  steady::sweep::Envelope env;
   const double cpu0 = cpuSeconds();
   for (auto _ : state) {
     try {
-      env = steady::sweep::sweptEnvelope(*b.body, span, options);
+      env = steady::sweep::sweptEnvelope(*b.body, motion, options);
     } catch (const std::exception& e) {
       state.SkipWithError(e.what());
       break;
     }
     benchmark::DoNotOptimize(static_cast<const double&>(env.volume));
   }
-  if (state.error_occurred()) return;
+  if (state.error_occurred()) return false;
   state.counters["cpu_s"] = (cpuSeconds() - cpu0) / static_cast<double>(state.iterations());
   state.counters["peak_mb"] = peakMegabytes();
-  const std::string k = key(mesh, screw);
-  if (eps == kReferenceEps) referenceVolumes()[k] = env.volume;
   state.counters["s_body"] = b.validate_seconds;
   state.counters["s_cycle"] = env.timings.cycle;
   state.counters["s_intersect"] = env.timings.intersect;
@@ -253,8 +260,40 @@ void BM_SteadySweep(benchmark::State& state, const std::string& mesh, bool screw
   state.counters["pinches"] = static_cast<double>(env.pinched_vertices_split);
   state.counters["pinches_touching"] = static_cast<double>(env.pinches_touching);
   state.counters["thin_removed"] = static_cast<double>(env.thin_cavities_removed + env.thin_solids_removed);
-  errorCounters(state, b, span, k, env.vertices, env.triangles, env.volume);
   state.counters["eps_used"] = env.tolerance;
+  return true;
+}
+
+void BM_SteadySweep(benchmark::State& state, const std::string& mesh, bool screw, double eps) {
+  const SweepBody& b = sweepBody(mesh);
+  const steady::Span3 span = spanFor(screw);
+  steady::sweep::Envelope env;
+  if (!steadySweep(state, b, span, eps, env)) return;
+  const std::string k = key(mesh, screw);
+  if (eps == kReferenceEps) referenceVolumes()[k] = env.volume;
+  errorCounters(state, b, [&](double t) { return span.pose(t); }, k, env.vertices, env.triangles, env.volume);
+}
+
+// The bundled polySAM (data/motions/keys.json) at eps 1e-3.
+void BM_SteadySweepMotion(benchmark::State& state, const std::string& mesh) {
+  const SweepBody& b = sweepBody(mesh);
+  if (!b.body) {
+    state.SkipWithError(("invalid body: " + b.invalid).c_str());
+    return;
+  }
+  std::optional<steady::Motion3> motion;
+  try {
+    const steady::io::MotionFile file = steady::io::readMotionFile(std::string(STEADY_DATA_DIR) + "/motions/keys.json");
+    motion = file.motion().toMotion(b.body->box(), file.approximation);
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+    return;
+  }
+  steady::sweep::Envelope env;
+  if (!steadySweep(state, b, *motion, kEps, env)) return;
+  state.counters["spans"] = static_cast<double>(motion->spanCount());
+  errorCounters(state, b, [&](double t) { return motion->pose(t); }, mesh + "/keys", env.vertices, env.triangles,
+                env.volume);
 }
 
 #ifdef STEADY_BENCH_OPENVDB
@@ -287,7 +326,7 @@ void BM_VdbSweep(benchmark::State& state, const std::string& mesh, bool screw, d
   state.counters["s_levelsets"] = out.timings.level_sets;
   state.counters["s_union"] = out.timings.unite;
   state.counters["s_mesh"] = out.timings.mesh;
-  errorCounters(state, b, span, key(mesh, screw), out.vertices, out.triangles, out.volume);
+  errorCounters(state, b, pose, key(mesh, screw), out.vertices, out.triangles, out.volume);
 }
 
 // The OpenVDB settings: voxel size in units of ε, with N = auto (no vertex moves more than a
@@ -337,6 +376,13 @@ const bool registered = [] {
 #endif
     }
   }
+  for (const char* name : {"sphere", "elephant"})
+    if (std::ifstream(meshPath(name)).good())
+      benchmark::RegisterBenchmark((std::string("BM_SteadySweepMotion/") + name + "/keys").c_str(),
+                                   BM_SteadySweepMotion, std::string(name))
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime()
+          ->Iterations(1);
   // The time-versus-faces curve on one shape: the subdivided spheres, screw span.
   for (int k = 1; k <= 4; ++k)
     benchmark::RegisterBenchmark(("BM_SteadySweep/sphere" + std::to_string(k) + "/screw/eps" + number(kEps)).c_str(),
