@@ -1646,15 +1646,16 @@ std::array<std::size_t, 2> dropThinShells(std::vector<Tri>& T, double eps, const
   // scales with the shell's own size: about the origin, the 2 faces of a sliver pillow a micron
   // long, opposite copies of one triangle 1 at the elephant's scale, summed to 1.6e-20 instead of
   // 0, 50 times its area times eps, and it stayed as a shell of its own.
-  std::unordered_map<int, std::array<double, 2>> shell;  // root -> (volume, area)
-  std::unordered_map<int, Vec> origin;                   // root -> a vertex of the shell
+  struct Shell {
+    Vec origin;  // a vertex of the shell
+    double volume = 0, area = 0;
+  };
+  std::unordered_map<int, Shell> shell;  // by root
   for (std::size_t f = 0; f < T.size(); ++f) {
-    const int root = findRoot(parent, static_cast<int>(f));
-    const Vec& o = origin.emplace(root, V[T[f][0]]).first->second;
-    const Vec a = V[T[f][0]] - o, b = V[T[f][1]] - o, c = V[T[f][2]] - o;
-    auto& x = shell[root];
-    x[0] += a.dot(b.cross(c)) / 6.0;
-    x[1] += 0.5 * (b - a).cross(c - a).norm();
+    Shell& x = shell.try_emplace(findRoot(parent, static_cast<int>(f)), Shell{V[T[f][0]]}).first->second;
+    const Vec a = V[T[f][0]] - x.origin, b = V[T[f][1]] - x.origin, c = V[T[f][2]] - x.origin;
+    x.volume += a.dot(b.cross(c)) / 6.0;
+    x.area += 0.5 * (b - a).cross(c - a).norm();
   }
   // Only a closed, consistently oriented shell has a meaningful volume sign: every edge of it
   // used by exactly two of its faces, once in each direction.
@@ -1665,14 +1666,14 @@ std::array<std::size_t, 2> dropThinShells(std::vector<Tri>& T, double eps, const
   });
   int largest = -1;  // the closed solid shell of largest volume
   for (const auto& [root, x] : shell)
-    if (!open.count(root) && x[0] > 0 && (largest < 0 || x[0] > shell[largest][0])) largest = root;
+    if (!open.count(root) && x.volume > 0 && (largest < 0 || x.volume > shell[largest].volume)) largest = root;
   auto thin = [&](int root) {
     const auto& x = shell[root];
-    return !open.count(root) && root != largest && 2 * std::abs(x[0]) <= eps * x[1];
+    return !open.count(root) && root != largest && 2 * std::abs(x.volume) <= eps * x.area;
   };
   std::array<std::size_t, 2> dropped{{0, 0}};
   for (const auto& [root, x] : shell)
-    if (thin(root)) ++dropped[x[0] > 0 ? 1 : 0];
+    if (thin(root)) ++dropped[x.volume > 0 ? 1 : 0];
   if (dropped[0] + dropped[1])
     T.erase(std::remove_if(T.begin(), T.end(),
                            [&](const Tri& t) { return thin(findRoot(parent, static_cast<int>(&t - T.data()))); }),
