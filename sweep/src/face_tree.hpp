@@ -41,13 +41,14 @@ class FaceTree {
     F_ = &faces;
     const std::size_t nf = faces.size();
     order_.resize(nf);
-    // The box centres (doubled, in float) while building.
-    std::vector<Vec3f> centre(nf);
+    // The faces with their box centres (doubled, in float), partitioned in place while
+    // building; order_ is read from them at the end. (Partitioning indices into a separate
+    // array of centres spent most of the build waiting for those loads.)
+    std::vector<Item> items(nf);
     auto prepare = [&](std::size_t begin, std::size_t end) {
       for (std::size_t f = begin; f < end; ++f) {
-        order_[f] = static_cast<int>(f);
         const Box b = faceBox(static_cast<int>(f));
-        centre[f] = (b.lo + b.hi).cast<float>();
+        items[f] = {(b.lo + b.hi).cast<float>(), static_cast<int>(f)};
       }
     };
     nodes_.clear();
@@ -55,14 +56,14 @@ class FaceTree {
     nodes_.resize(nodeCount(static_cast<int>(nf)));
     if (threads == 1 || nf < kParallelBuild) {
       prepare(0, nf);
-      split(0, 0, static_cast<int>(nf), centre, false);
+      split(0, 0, static_cast<int>(nf), items, false);
       return;
     }
     tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf),
                         [&](const tbb::blocked_range<std::size_t>& r) { prepare(r.begin(), r.end()); });
-      split(0, 0, static_cast<int>(nf), centre, true);
+      split(0, 0, static_cast<int>(nf), items, true);
     });
   }
 
@@ -146,6 +147,10 @@ class FaceTree {
   struct Box {
     Vec lo, hi;
   };
+  struct Item {
+    Vec3f centre;
+    int face;
+  };
   struct Node {
     Vec3f lo, hi;
     int left = -1, right = -1;  // children (inner node) or -1 (leaf)
@@ -223,15 +228,17 @@ class FaceTree {
   }
   static std::size_t nodeCount(int n) { return nodeCounts(static_cast<std::size_t>(n))[0]; }
 
-  // Builds the subtree of order_[first, last) at node id (its left subtree follows it, then its
+  // Builds the subtree of items[first, last) at node id (its left subtree follows it, then its
   // right one); node boxes come from the faces at the leaves and from the children above them.
-  void split(std::size_t id, int first, int last, const std::vector<Vec3f>& centre, bool parallel) {
+  // The leaves write their faces to order_.
+  void split(std::size_t id, int first, int last, std::vector<Item>& items, bool parallel) {
     Node& node = nodes_[id];
     node.first = first;
     node.count = last - first;
     if (last - first <= 4) {
       Vec lo = Vec::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
       for (int i = first; i < last; ++i) {
+        order_[i] = items[i].face;
         const Box b = faceBox(order_[i]);
         lo = lo.cwiseMin(b.lo);
         hi = hi.cwiseMax(b.hi);
@@ -242,20 +249,20 @@ class FaceTree {
     }
     Vec3f clo = Vec3f::Constant(std::numeric_limits<float>::infinity()), chi = -clo;
     for (int i = first; i < last; ++i) {
-      clo = clo.cwiseMin(centre[order_[i]]);
-      chi = chi.cwiseMax(centre[order_[i]]);
+      clo = clo.cwiseMin(items[i].centre);
+      chi = chi.cwiseMax(items[i].centre);
     }
     int axis = 0;
     (chi - clo).maxCoeff(&axis);
     const int mid = first + (last - first) / 2;
-    std::nth_element(order_.begin() + first, order_.begin() + mid, order_.begin() + last,
-                     [&](int a, int b) { return centre[a][axis] < centre[b][axis]; });
+    std::nth_element(items.begin() + first, items.begin() + mid, items.begin() + last,
+                     [axis](const Item& a, const Item& b) { return a.centre[axis] < b.centre[axis]; });
     const std::size_t l = id + 1, r = id + 1 + nodeCount(mid - first);
     if (parallel && static_cast<std::size_t>(last - first) >= kParallelBuild) {
-      tbb::parallel_invoke([&] { split(l, first, mid, centre, true); }, [&] { split(r, mid, last, centre, true); });
+      tbb::parallel_invoke([&] { split(l, first, mid, items, true); }, [&] { split(r, mid, last, items, true); });
     } else {
-      split(l, first, mid, centre, parallel);
-      split(r, mid, last, centre, parallel);
+      split(l, first, mid, items, parallel);
+      split(r, mid, last, items, parallel);
     }
     node.left = static_cast<int>(l);
     node.right = static_cast<int>(r);

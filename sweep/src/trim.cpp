@@ -2023,17 +2023,23 @@ void computeCheck(MeshCheck& c, const std::vector<Vec>& V, const std::vector<Tri
   }
   c.self_intersections = -1;
   if (self) {
-    // Pairs of faces whose boxes meet (a box hierarchy; each pair from its lower face), tested
-    // in parallel, counted per face.
+    // Pairs of faces whose boxes meet (a box hierarchy; each pair met once, from the earlier of
+    // its two places in the tree's order), tested in parallel, counted per place. The planes
+    // settle most pairs that are apart before the exact predicates (as in arrange). Same counts
+    // as testing each face against the whole tree; on the elephant screw at 1e-3 (117k faces)
+    // the check took 0.13 s that way.
     detail::FaceTree tree;
     tree.build(V, T, threads);
+    const DoublePlanes planes(V, T);
     std::vector<long> crossing(T.size(), 0);
-    parallelFor(0, T.size(), threads, [&](std::size_t f) {
-      if (flat[f]) return;
-      const Tri& t = T[f];
+    parallelFor(0, T.size(), threads, [&](std::size_t k) {
+      const int f = tree.faceAt(k);
+      if (flat[static_cast<std::size_t>(f)]) return;
+      const Tri& t = T[static_cast<std::size_t>(f)];
       const Vec lo = V[t[0]].cwiseMin(V[t[1]]).cwiseMin(V[t[2]]), hi = V[t[0]].cwiseMax(V[t[1]]).cwiseMax(V[t[2]]);
-      tree.overlapping(lo, hi, [&](int g) {
-        if (static_cast<std::size_t>(g) > f && !flat[g] && crosses(P, t, T[g])) ++crossing[f];
+      tree.overlappingAfter(k, lo, hi, [&](int g) {
+        if (!flat[static_cast<std::size_t>(g)] && !planes.apart(f, g) && crosses(P, t, T[static_cast<std::size_t>(g)]))
+          ++crossing[k];
       });
     });
     c.self_intersections = std::accumulate(crossing.begin(), crossing.end(), 0L);
@@ -2126,6 +2132,24 @@ constexpr double kNormalWidth = 1e-9;
 // the probe length ahead or more (elephant, knot1, armadillo).
 constexpr double kAhead = 1e-7;
 
+// Walls are sorted into six buckets by the dominant axis of their unit empty-side normal m and
+// its sign (bucket 2k for m_k > 0, 2k + 1 for m_k < 0, k the first axis of largest |m_k|), so
+// that a probe looks only where a facing wall can be: a wall faces a probe of normal n when
+// m . n < kFacing, i.e. m . d > 0.9 for d = -n, so |m - d|^2 = 2 - 2 m . d < 0.2 and every
+// coordinate of m is within sqrt(0.2) = 0.4472 of d's; m's dominant coordinate is at least
+// 1/sqrt(3) = 0.5774 in size, so d's, signed as the bucket, is above 0.1302. Buckets whose
+// signed coordinate of d is below kWallBucketReach (0.125: a margin for the rounding of the unit
+// normals) are not searched. On the elephant screw at 1e-3, the single hierarchy of all walls
+// met 3.4M wall boxes for 118k probing faces, of which 0.64M faced their probe.
+constexpr double kWallBucketReach = 0.125;
+int wallBucket(const Vec& m) {
+  int k = 0;
+  const double a0 = std::abs(m[0]), a1 = std::abs(m[1]), a2 = std::abs(m[2]);
+  if (a1 > a0) k = 1;
+  if (a2 > std::max(a0, a1)) k = 2;
+  return 2 * k + (m[k] < 0 ? 1 : 0);
+}
+
 // Faces of the selection that are walls of a crack: a thin empty layer inside the swept volume
 // that reaches the envelope, so that its walls are joined across two-face edges to the outer
 // patches and buriedPatches, with one probe per patch, does not see it. Such a layer appears
@@ -2172,8 +2196,10 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
     const Tri& t = A.faces[f];
     return k == 0 ? Vec((vec(t[0]) + vec(t[1]) + vec(t[2])) / 3.0) : vec(t[k - 1]);
   };
-  std::vector<Tri> walls;       // their triangles
-  std::vector<int> wall_face;   // per wall: its face
+  // The walls by the direction of their empty side (see kWallBuckets): per bucket, their
+  // triangles and faces.
+  std::array<std::vector<Tri>, 6> walls;
+  std::array<std::vector<int>, 6> wall_face;
   std::vector<std::pair<int, std::array<Vec, 2>>> probes;  // (face, box of its four probes)
   // Faces with a usable normal (see kNormalWidth) and their side; per cycle triangle, the unit
   // normal of its widest such face (faces cut from one triangle share its plane). Every face
@@ -2211,8 +2237,9 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
     const Vec& m = source_normal[static_cast<std::size_t>(A.source[f])];
     // (the face runs as its triangle or, merged with a coincident face, against it)
     empty_normal[f] = (m.dot((b - a).cross(c - a)) > 0 ? usable_side[f] : -usable_side[f]) * m;
-    walls.push_back(t);
-    wall_face.push_back(static_cast<int>(f));
+    const int bucket = wallBucket(empty_normal[f]);
+    walls[bucket].push_back(t);
+    wall_face[bucket].push_back(static_cast<int>(f));
     if (buried[p]) continue;
     // One box around the face's four probes: the triangle and its copy moved along them.
     const Vec shift = kBuriedProbe * eps_t * empty_normal[f];
@@ -2245,10 +2272,11 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
   }
   std::vector<std::atomic<char>> corner_inside(slots);
   for (auto& x : corner_inside) x.store(0, std::memory_order_relaxed);
-  // The walls in a box hierarchy; each probing face, in parallel, marks the probes that meet a
-  // facing wall (bit k for probe k), then tests their ends until one is inside.
-  detail::FaceTree tree;
-  tree.build(A.approx, walls, threads);
+  // The walls in a box hierarchy per bucket; each probing face, in parallel, marks the probes
+  // that meet a facing wall (bit k for probe k) in the buckets that can hold one, then tests
+  // their ends until one is inside.
+  std::array<detail::FaceTree, 6> tree;
+  for (int b = 0; b < 6; ++b) tree[b].build(A.approx, walls[b], threads);
   parallelFor(0, probes.size(), threads, [&](std::size_t i) {
     const std::size_t f = static_cast<std::size_t>(probes[i].first);
     // The face's probes, made once for all the walls they are tested against.
@@ -2264,21 +2292,24 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
     // (the box is widened by a few ulps: the segments' ends are rounded sums)
     const Vec pad = Vec::Constant(1e-15 * (1.0 + probes[i].second[1].cwiseAbs().maxCoeff() +
                                            probes[i].second[0].cwiseAbs().maxCoeff()));
-    tree.overlapping(probes[i].second[0] - pad, probes[i].second[1] + pad, [&](int w) {
-      const std::size_t g = static_cast<std::size_t>(wall_face[static_cast<std::size_t>(w)]);
-      if (f == g || empty_normal[f].dot(empty_normal[g]) > kFacing) return;
-      const Tri& t = A.faces[g];
-      const IK::Triangle_3 wall(P[t[0]], P[t[1]], P[t[2]]);
-      const CGAL::Bbox_3 wall_box = P[t[0]].bbox() + P[t[1]].bbox() + P[t[2]].bbox();
-      const Vec& nf = empty_normal[f];
-      for (int k = 0; k < kOrigins; ++k) {
-        if (met >> k & 1) continue;
-        // (a wall wholly behind the probe's origin, up to kAhead; see kFacing)
-        const Vec& o = from[k];
-        if (nf.dot(vec(t[0]) - o) <= ahead && nf.dot(vec(t[1]) - o) <= ahead && nf.dot(vec(t[2]) - o) <= ahead) continue;
-        if (CGAL::do_overlap(probe_box[k], wall_box) && CGAL::do_intersect(probe[k], wall)) met |= 1u << k;
-      }
-    });
+    const Vec& nf = empty_normal[f];
+    for (int b = 0; b < 6; ++b) {
+      if (!(-(b & 1 ? -1.0 : 1.0) * nf[b / 2] >= kWallBucketReach)) continue;  // (no facing wall in it)
+      tree[b].overlapping(probes[i].second[0] - pad, probes[i].second[1] + pad, [&](int w) {
+        const std::size_t g = static_cast<std::size_t>(wall_face[b][static_cast<std::size_t>(w)]);
+        if (f == g || nf.dot(empty_normal[g]) > kFacing) return;
+        const Tri& t = A.faces[g];
+        const IK::Triangle_3 wall(P[t[0]], P[t[1]], P[t[2]]);
+        const CGAL::Bbox_3 wall_box = P[t[0]].bbox() + P[t[1]].bbox() + P[t[2]].bbox();
+        for (int k = 0; k < kOrigins; ++k) {
+          if (met >> k & 1) continue;
+          // (a wall wholly behind the probe's origin, up to kAhead; see kFacing)
+          const Vec& o = from[k];
+          if (nf.dot(vec(t[0]) - o) <= ahead && nf.dot(vec(t[1]) - o) <= ahead && nf.dot(vec(t[2]) - o) <= ahead) continue;
+          if (CGAL::do_overlap(probe_box[k], wall_box) && CGAL::do_intersect(probe[k], wall)) met |= 1u << k;
+        }
+      });
+    }
     for (int k = 0; k < kOrigins && !flag[f]; ++k) {
       if (!(met >> k & 1)) continue;
       if (k == 0) {
