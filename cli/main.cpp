@@ -329,7 +329,7 @@ int main(int argc, char** argv) {
       "  \"body_diagonal\"}, \"spans\", \"cycle_triangles\", \"intersecting_pairs\", \"arrangement_triangles\",\n"
       "  \"patches\", \"ray_retries\", \"patches_by_ray\", \"thin_cavities_removed\", \"thin_solids_removed\",\n"
       "  \"buried_patches_removed\", \"crack_faces_removed\", \"buried_patches_kept\", \"crack_faces_kept\",\n"
-      "  \"pocket_mouths_filled\", \"mouth_flaps_removed\", \"rounding_merged\",\n"
+      "  \"pocket_mouths_filled\", \"mouth_flaps_removed\", \"mouth_rim_faces_removed\", \"rounding_merged\",\n"
       "  \"pinched_vertices_split\", \"pinches_touching\",\n"
       "  \"check\": {\"closed\", \"manifold\", \"oriented\", \"self_intersections\" (null with --no-check),\n"
       "  \"degenerate_faces\", \"shells\", \"volume\", \"area\"}, \"timings_s\": {\"read\", \"repair\", \"body\",\n"

@@ -491,6 +491,30 @@ TEST(Envelope, FlapsAcrossACrackMouthAreLeftOut) {
                          "L prism affine crack mouth");
 }
 
+// The stress campaign's UV sphere on an affine span (case 7, checked on every vertex): a pocket
+// mouth of 14 points whose fillings (CGAL's, the refill and the fan) all crossed faces of its
+// own rim, folded over the mouth like flaps but with a corner up to 1.4 tessellation
+// tolerances off the loop. The mouth failed, the buried patch at it was kept whole, and three
+// envelope vertices 19 tolerances away were 1.14 to 1.99 eps deep inside the body posed at
+// tau 1/32. With those rim faces left out for another round (kRimReach), the mouth closes and
+// every vertex about the former failure lies on the true boundary.
+TEST(Envelope, RimFacesAcrossAPocketMouthAreLeftOut) {
+  const Mesh m = uvSphere(6, 10, 0.6);
+  Eigen::Matrix<double, 3, 4> b, c;
+  b << 0.57250006114733498, 0.3198455935517423, 0.75494534654624601, -0.0067470172765101699,  //
+      -0.73868821872101575, 0.60076590584565381, 0.30564692358377143, -0.069485636882539392,  //
+      -0.35578560329090114, -0.73265211571317035, 0.58020468959837346, -0.26701237502769648;
+  c << 1.8951314322092667, 0.36260192133444341, 0.90711198563275253, 0.81494599430735959,  //
+      -0.62018574936753101, 0.43205330432206035, 0.32899724199661423, -0.29934840129177998,  //
+      -0.5948939084500855, -0.6091745132459605, 0.45337828338291064, -0.32568885210661419;
+  const Motion3 motion = single(Affine3::fromMatrix(b), Affine3::fromMatrix(c));
+  const Envelope env = sweep(m, motion, 2e-3);
+  EXPECT_EQ(env.buried_patches_kept, 0u);
+  EXPECT_GT(env.mouth_rim_faces_removed, 0u);
+  expectCrackMouthClosed(env, m, motion, V(-0.53206084155595779, -0.12148789215915459, -0.052731963599349119),
+                         "UV sphere affine pocket mouth");
+}
+
 // The stress campaign's bracket on a screw span (case 970): a crack mouth whose loop shares
 // points with other loops. The faces folded over it were not taken for flaps while a flap's
 // corners had to lie on no other loop, every filling crossed them, and the crack was kept with
@@ -571,6 +595,7 @@ TEST(Envelope, SameEnvelopeOnAnyNumberOfThreads) {
     EXPECT_EQ(b.buried_patches_kept, a.buried_patches_kept) << threads << " threads";
     EXPECT_EQ(b.crack_faces_kept, a.crack_faces_kept) << threads << " threads";
     EXPECT_EQ(b.mouth_flaps_removed, a.mouth_flaps_removed) << threads << " threads";
+    EXPECT_EQ(b.mouth_rim_faces_removed, a.mouth_rim_faces_removed) << threads << " threads";
     expectSameEnvelope(a, b, std::to_string(threads) + " threads");
   }
   SweepOptions bad;

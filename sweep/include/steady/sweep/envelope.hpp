@@ -160,6 +160,10 @@ struct Envelope {
   /// corner on the same rim (a flap folded over the mouth, whose rims are less than the 0.75 ε
   /// probe apart). Their other edges then become part of the mouth, which is closed as a whole.
   std::size_t mouth_flaps_removed = 0;
+  /// Faces left out because a mouth's every filling crossed them and their corners all lie
+  /// within 1.5 tessellation tolerances (0.75 ε) of its rim (faces of the rim folded over the
+  /// mouth with a corner off it); the mouth, grown by them, was closed in a later round.
+  std::size_t mouth_rim_faces_removed = 0;
   /// Vertices merged after rounding because they lay within 1e-13 times the envelope's box
   /// diagonal of another (distinct exact points a few ulps apart, whose rounded slivers would
   /// cross); the triangles they collapse are dropped, which keeps the surface closed.
