@@ -50,6 +50,8 @@
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 #include <CGAL/box_intersection_d.h>
 #include <CGAL/intersections.h>
+#include <CGAL/Mpzf.h>
+#include <CGAL/Simple_cartesian.h>
 
 #include <Eigen/Geometry>  // cross products
 
@@ -730,6 +732,86 @@ void addConstraints(const Result& x, std::vector<Constraint>& into, PointId&& po
   }
 }
 
+// Exact predicates on pairs of triangles whose corners include cap points of a polySAM's joints
+// (detail::ExactPosition: A + s (B - A) + t (C - A), with A, B, C, s and t doubles). Such a
+// point's coordinates are dyadic rationals, sums of products of doubles, so every predicate the
+// crossing tests use (orientations, coplanar orientations, segment/triangle and
+// triangle/triangle tests, all sign of polynomials in the coordinates) is decided exactly by
+// ring arithmetic on CGAL's Mpzf (a binary floating-point number with an unbounded mantissa: no
+// division, no gcd), after an interval filter. Through Epeck the same tests evaluated the
+// points and the determinants in GMP rationals, reduced by a gcd at every operation: on the
+// CGAL sphere along the bundled bi-arc motion, where strips of two spans continue across a
+// joint nearly in one plane and the filter cannot decide, that was 5.3 of the 8.8 s of the
+// intersections. A pair is renumbered to its own (at most six) points, shared corners once, so
+// that the templated tests (crosses, sharedVertexCrossing, generalCrossing) run unchanged on
+// interval points (CGAL's Uncertain values throw where the intervals cannot decide) and then,
+// if they threw, on exact Mpzf points.
+class DyadicPairs {
+ public:
+  using FK = CGAL::Simple_cartesian<CGAL::Interval_nt<false>>;  // (Epeck's approximate kernel)
+  using MK = CGAL::Simple_cartesian<CGAL::Mpzf>;
+  // A point X = P[a] + s (P[b] - P[a]) + t (P[c] - P[a]) of plain points a, b, c (c < 0: t = 0).
+  struct Formula {
+    int a = -1, b = -1, c = -1;
+    double s = 0, t = 0;
+  };
+
+  // `approx`: every point's doubles (exact for plain points); `interval`: every point's interval
+  // box; `formula`: per point, -1 for a plain point, else its index in `formulas`.
+  DyadicPairs(const std::vector<Vec>& approx, const std::vector<EPoint>& exact, const std::vector<int>& formula,
+              const std::vector<Formula>& formulas)
+      : approx_(approx), exact_(exact), formula_(formula), formulas_(formulas) {}
+
+  // fn(P, T, map): P the pair's points (interval first, exact if that throws), T = {s, t}
+  // renumbered into P, map[k] the point number of P[k].
+  template <class Fn>
+  auto decide(const Tri& s, const Tri& t, Fn&& fn) const {
+    int map[6];
+    int n = 0;
+    auto local = [&](int v) {
+      for (int k = 0; k < n; ++k)
+        if (map[k] == v) return k;
+      map[n] = v;
+      return n++;
+    };
+    const std::vector<Tri> T{{{local(s[0]), local(s[1]), local(s[2])}}, {{local(t[0]), local(t[1]), local(t[2])}}};
+    {
+      CGAL::Protect_FPU_rounding<true> guard;
+      try {
+        std::vector<FK::Point_3> P;
+        P.reserve(static_cast<std::size_t>(n));
+        for (int k = 0; k < n; ++k) P.push_back(CGAL::approx(exact_[map[k]]));
+        return fn(P, T, map);
+      } catch (CGAL::Uncertain_conversion_exception&) {
+      }
+    }
+    std::vector<MK::Point_3> P;
+    P.reserve(static_cast<std::size_t>(n));
+    for (int k = 0; k < n; ++k) P.push_back(exactPoint(map[k]));
+    return fn(P, T, map);
+  }
+
+ private:
+  MK::Point_3 exactPoint(int v) const {
+    auto plain = [&](int w, int k) { return CGAL::Mpzf(approx_[w][k]); };
+    const int f = formula_[v];
+    if (f < 0) return MK::Point_3(plain(v, 0), plain(v, 1), plain(v, 2));
+    const Formula& x = formulas_[static_cast<std::size_t>(f)];
+    CGAL::Mpzf c[3];
+    for (int k = 0; k < 3; ++k) {
+      const CGAL::Mpzf a = plain(x.a, k);
+      c[k] = a + CGAL::Mpzf(x.s) * (plain(x.b, k) - a);
+      if (x.c >= 0) c[k] = c[k] + CGAL::Mpzf(x.t) * (plain(x.c, k) - a);
+    }
+    return MK::Point_3(c[0], c[1], c[2]);
+  }
+
+  const std::vector<Vec>& approx_;
+  const std::vector<EPoint>& exact_;
+  const std::vector<int>& formula_;
+  const std::vector<Formula>& formulas_;
+};
+
 Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPosition>& X,
                     const std::vector<Tri>& T0, const SweepOptions& options) {
   // Exact positions of the vertices; equal positions are merged (-0 and +0 alike), degenerate
@@ -739,6 +821,10 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   std::vector<IPoint> ip;      // the double points (rounded, for flagged points)
   std::vector<EPoint> ep;      // the exact points
   std::vector<char> inexact;   // per point: not a double
+  // Per point: -1 (a double), the index of its formula in `formulas` (see DyadicPairs), or -2 (an
+  // inexact point whose formula does not rest on doubles: its pairs go through Epeck).
+  std::vector<int> formula_of;
+  std::vector<DyadicPairs::Formula> formulas;
   {
     struct Hash {
       std::size_t operator()(const std::array<double, 3>& x) const {
@@ -760,13 +846,24 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
         key = {{CGAL::to_double(p.x()) + 0.0, CGAL::to_double(p.y()) + 0.0, CGAL::to_double(p.z()) + 0.0}};
         if (p != EPoint(key[0], key[1], key[2])) {
           auto [it, added] = seen_exact.emplace(p, static_cast<int>(ep.size()));
-          if (added) ip.emplace_back(key[0], key[1], key[2]), ep.push_back(p), inexact.push_back(1);
+          if (added) {
+            ip.emplace_back(key[0], key[1], key[2]), ep.push_back(p), inexact.push_back(1);
+            const int a = id[x.a], b = id[x.b], c = x.c >= 0 ? id[x.c] : -1;
+            if (inexact[a] || inexact[b] || (c >= 0 && inexact[c])) {
+              formula_of.push_back(-2);
+            } else {
+              formula_of.push_back(static_cast<int>(formulas.size()));
+              formulas.push_back({a, b, c, x.s, x.c >= 0 ? x.t : 0.0});
+            }
+          }
           id[i] = it->second;
           continue;
         }
       }
       auto [it, added] = seen.emplace(key, static_cast<int>(ip.size()));
-      if (added) ip.emplace_back(key[0], key[1], key[2]), ep.emplace_back(key[0], key[1], key[2]), inexact.push_back(0);
+      if (added)
+        ip.emplace_back(key[0], key[1], key[2]), ep.emplace_back(key[0], key[1], key[2]), inexact.push_back(0),
+            formula_of.push_back(-1);
       id[i] = it->second;
     }
   }
@@ -803,9 +900,19 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   // (Most pairs whose boxes meet are apart, 22 of bunny00's 26 million at 1e-3: the planes
   // settle them before the exact predicates.)
   const DoublePlanes planes(out.approx, T);
+  // Pairs with inexact corners are decided in Mpzf (DyadicPairs) where their formulas allow.
+  const DyadicPairs dyadic(out.approx, ep, formula_of, formulas);
+  auto dyadicPair = [&](int i, int j) {
+    for (const int v : T[i])
+      if (formula_of[v] == -2) return false;
+    for (const int v : T[j])
+      if (formula_of[v] == -2) return false;
+    return true;
+  };
   const auto pairs = crossingPairs(out.approx, pad, T, options.threads, [&](int i, int j) {
-    if (!(plain(T[i]) && plain(T[j]))) return crosses(ep, T[i], T[j]);
-    return !planes.apart(i, j) && crosses(ip, T[i], T[j]);
+    if (plain(T[i]) && plain(T[j])) return !planes.apart(i, j) && crosses(ip, T[i], T[j]);
+    if (!dyadicPair(i, j)) return crosses(ep, T[i], T[j]);
+    return dyadic.decide(T[i], T[j], [](const auto& P, const std::vector<Tri>& L, const int*) { return crosses(P, L[0], L[1]); });
   });
   // (cells of 2^-14 of the scene's size)
   Vec scene_lo = Vec::Constant(HUGE_VAL), scene_hi = -scene_lo;
@@ -861,13 +968,37 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   parallelFor(0, pairs.size(), options.threads, [&](std::size_t k) {
     const auto [i, j] = pairs[k];
     const bool plain_pair = plain(T[i]) && plain(T[j]);
+    const bool dyadic_pair = !plain_pair && dyadicPair(i, j);
     int sv[3];
     const int n = shared(T[i], T[j], sv);
     Crossing& x = crossing[k];
-    if (n == 1 && (plain_pair ? sharedVertexCrossing(ip, T, i, j, sv[0], x.cut[0])
-                              : sharedVertexCrossing(ep, T, i, j, sv[0], x.cut[0])))
+    // (a pair renumbered by DyadicPairs: its cuts are named back by point and triangle numbers)
+    auto named = [&](const Cut& c, const int* map) { return Cut{map[c.a], map[c.b], c.tri == 0 ? i : j}; };
+    auto sharedCut = [&]() {
+      if (plain_pair) return sharedVertexCrossing(ip, T, i, j, sv[0], x.cut[0]);
+      if (!dyadic_pair) return sharedVertexCrossing(ep, T, i, j, sv[0], x.cut[0]);
+      return dyadic.decide(T[i], T[j], [&](const auto& P, const std::vector<Tri>& L, const int* map) {
+        int v = 0;
+        while (map[v] != sv[0]) ++v;
+        Cut c;
+        if (!sharedVertexCrossing(P, L, 0, 1, v, c)) return false;
+        x.cut[0] = named(c, map);
+        return true;
+      });
+    };
+    auto generalCuts = [&]() {
+      if (plain_pair) return generalCrossing(ip, T, i, j, x.cut);
+      if (!dyadic_pair) return generalCrossing(ep, T, i, j, x.cut);
+      return dyadic.decide(T[i], T[j], [&](const auto& P, const std::vector<Tri>& L, const int* map) {
+        Cut c[2];
+        if (!generalCrossing(P, L, 0, 1, c)) return false;
+        x.cut[0] = named(c[0], map), x.cut[1] = named(c[1], map);
+        return true;
+      });
+    };
+    if (n == 1 && sharedCut())
       x.kind = 1, x.vertex = sv[0];
-    else if (n == 0 && (plain_pair ? generalCrossing(ip, T, i, j, x.cut) : generalCrossing(ep, T, i, j, x.cut)))
+    else if (n == 0 && generalCuts())
       x.kind = 2;
     else
       x.general = std::make_unique<General>(CGAL::intersection(EK::Triangle_3(ep[T[i][0]], ep[T[i][1]], ep[T[i][2]]),
