@@ -397,7 +397,7 @@ class PointIndex {
   PointIndex(const Eigen::Vector3d& origin, double cell) : origin_(origin), inv_(1.0 / cell) {}
   // The number of a filed point exactly equal to p (points[number]), or -1.
   int find(const EK::Point_3& p, const std::vector<EK::Point_3>& points) const {
-    const CGAL::Bbox_3 b = p.bbox();
+    const CGAL::Bbox_3 b = box(p);
     int found = -1;
     forCells(b, [&](std::uint64_t key) {
       const int* head = head_.find(key);
@@ -411,7 +411,7 @@ class PointIndex {
   }
   // Files point p under number id.
   void add(const EK::Point_3& p, int id) {
-    forCells(p.bbox(), [&](std::uint64_t key) {
+    forCells(box(p), [&](std::uint64_t key) {
       const auto [head, added] = head_.emplace(key, static_cast<int>(nodes_.size()));
       nodes_.push_back({id, added ? -1 : *head});
       *head = static_cast<int>(nodes_.size()) - 1;
@@ -423,6 +423,18 @@ class PointIndex {
   struct Node {
     int id, next;  // a filed point, and the node filed before it in the same cell (-1: none)
   };
+  // The interval box of p, evaluated exactly first when it spans more than a few cells (a point
+  // where an edge nearly parallel to a plane crosses it has a wide interval: filed or looked up
+  // in every cell of it, it would take forever).
+  CGAL::Bbox_3 box(const EK::Point_3& p) const {
+    const CGAL::Bbox_3 b = p.bbox();
+    for (int k = 0; k < 3; ++k)
+      if (!((b.max(k) - b.min(k)) * inv_ <= 4)) {
+        (void)p.exact();
+        return p.bbox();
+      }
+    return b;
+  }
   // Calls visit(key) for the cells that box b overlaps, while it returns true. (Cells far
   // apart may share a key: that only costs box tests.)
   template <class Visit>
@@ -695,6 +707,60 @@ bool sharedVertexCrossing(const std::vector<Point>& P, const std::vector<Tri>& T
   return false;
 }
 
+// An end of the intersection of two triangles that do not lie in one plane: a corner of one
+// that lies on the other's plane (vertex >= 0), or the point where an edge of one crosses the
+// other's plane strictly (cut, named as in generalCrossing).
+struct End {
+  int vertex = -1;
+  Cut cut{-1, -1, -1};
+};
+
+// The intersection of two triangles s and t (numbers i and j in T) whose planes cross in a
+// line L, in any position, by predicates alone: each triangle meets L in a segment (or a
+// point) whose ends are its corners on the other's plane or its edges crossing that plane
+// strictly, and the intersection is the overlap of the two segments, whose ends are exactly
+// the ends of either segment that lie in the other triangle (closed). A corner on t's plane
+// lies in t when it is on no edge line's far side (coplanar orientations); an edge (a, b) of s
+// crossing t's plane meets it inside t when the orientations of (a, b) against t's three edges
+// do not take both signs (a zero: the point is on that edge's line). Sets `out` to those ends
+// (up to four names of at most two points: an end of s's segment can be an end of t's too)
+// and returns their number; returns 0 for coplanar triangles (every corner of t on s's plane),
+// which the general exact intersection handles. This covers the pairs that generalCrossing and
+// sharedVertexCrossing leave: a corner on the other's plane, an edge in it, edges meeting at a
+// point of an edge line (a polySAM's strips start at points placed exactly in posed faces).
+template <class Point>
+int lineCrossing(const std::vector<Point>& P, const std::vector<Tri>& T, int i, int j, End out[4]) {
+  int count = 0;
+  auto ends = [&](int xi, int yi) {
+    const Tri &x = T[xi], &y = T[yi];
+    CGAL::Orientation o[3];
+    for (int k = 0; k < 3; ++k) o[k] = CGAL::orientation(P[y[0]], P[y[1]], P[y[2]], P[x[k]]);
+    if (o[0] == CGAL::COPLANAR && o[1] == CGAL::COPLANAR && o[2] == CGAL::COPLANAR) return false;
+    for (int k = 0; k < 3; ++k) {
+      if (o[k] != CGAL::COPLANAR) continue;
+      bool inside = true;
+      for (int e = 0; e < 3 && inside; ++e)
+        inside = CGAL::coplanar_orientation(P[y[e]], P[y[(e + 1) % 3]], P[y[(e + 2) % 3]], P[x[k]]) != CGAL::NEGATIVE;
+      if (inside) out[count++].vertex = x[k];
+    }
+    for (int k = 0; k < 3; ++k) {
+      if (o[k] == CGAL::COPLANAR || o[(k + 1) % 3] == CGAL::COPLANAR || o[k] == o[(k + 1) % 3]) continue;
+      const int a = x[k], b = x[(k + 1) % 3];
+      bool pos = false, neg = false;
+      for (int e = 0; e < 3; ++e) {
+        const CGAL::Orientation q = CGAL::orientation(P[a], P[b], P[y[e]], P[y[(e + 1) % 3]]);
+        pos = pos || q == CGAL::POSITIVE;
+        neg = neg || q == CGAL::NEGATIVE;
+      }
+      if (!(pos && neg)) out[count++].cut = {a, b, yi};
+    }
+    return true;
+  };
+  // (each triangle has at most two ends: a third corner on the plane would make it coplanar)
+  if (!ends(i, j) || !ends(j, i)) return 0;
+  return count;
+}
+
 // The point where the line through a and b meets the plane through p, q, r, in any kernel.
 template <class K>
 struct LinePlanePoint {
@@ -952,8 +1018,9 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   };
   std::vector<std::vector<Constraint>> cons(T.size());
   // How each pair crosses, found by predicates alone in parallel: from a shared vertex to a cut
-  // (kind 1), between two cuts (kind 2), or otherwise (kind 0: CGAL's exact intersection, also
-  // made in parallel). The cut points and the intersections' points are then named and numbered
+  // (kind 1), between two cuts (kind 2), between the ends lineCrossing finds (kind 3: planes
+  // that cross, in special position), or otherwise (kind 0: coplanar pairs, CGAL's exact
+  // intersection, also made in parallel). The cut points and the intersections' points are then named and numbered
   // in pair order on this thread, so the numbering is the same for any number of threads. (The
   // intersections were made on this thread before: 4.8 s of the sphere's 12.4 s along the
   // bundled bi-arc motion, 57k pairs of nearly coplanar cap pieces at the joints.)
@@ -962,6 +1029,8 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
     Cut cut[2];
     int kind = 0;
     int vertex = -1;                   // kind 1: the shared vertex
+    End end[4];                        // kind 3: the ends (lineCrossing)
+    int ends = 0;
     std::unique_ptr<General> general;  // kind 0: the intersection
   };
   std::vector<Crossing> crossing(pairs.size());
@@ -996,10 +1065,23 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
         return true;
       });
     };
+    auto lineEnds = [&]() {
+      if (plain_pair) return lineCrossing(ip, T, i, j, x.end);
+      if (!dyadic_pair) return lineCrossing(ep, T, i, j, x.end);
+      return dyadic.decide(T[i], T[j], [&](const auto& P, const std::vector<Tri>& L, const int* map) {
+        End e[4];
+        const int m = lineCrossing(P, L, 0, 1, e);
+        for (int k = 0; k < m; ++k)
+          x.end[k] = e[k].vertex >= 0 ? End{map[e[k].vertex], {-1, -1, -1}} : End{-1, named(e[k].cut, map)};
+        return m;
+      });
+    };
     if (n == 1 && sharedCut())
       x.kind = 1, x.vertex = sv[0];
     else if (n == 0 && generalCuts())
       x.kind = 2;
+    else if (n < 2 && (x.ends = lineEnds()) > 0)
+      x.kind = 3;
     else
       x.general = std::make_unique<General>(CGAL::intersection(EK::Triangle_3(ep[T[i][0]], ep[T[i][1]], ep[T[i][2]]),
                                                                EK::Triangle_3(ep[T[j][0]], ep[T[j][1]], ep[T[j][2]])));
@@ -1014,13 +1096,27 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
       c = {cr.vertex, cutPoint(cr.cut[0])};
     else if (cr.kind == 2)
       c = {cutPoint(cr.cut[0]), cutPoint(cr.cut[1])};
+    else if (cr.kind == 3) {
+      // (the ends' names are of at most two points; more would be a fault: intersect in general)
+      int ids[4], m = 0;
+      for (int e = 0; e < cr.ends; ++e) {
+        const int id = cr.end[e].vertex >= 0 ? cr.end[e].vertex : cutPoint(cr.end[e].cut);
+        if (std::find(ids, ids + m, id) == ids + m) ids[m++] = id;
+      }
+      if (m <= 2) c = {ids[0], ids[m - 1]};
+    }
     if (c.a >= 0) {  // (the planes cross in a line: the pair is not coplanar)
       cons[i].push_back({c.a, c.b, j});
       cons[j].push_back({c.a, c.b, i});
       continue;
     }
     const std::size_t before_i = cons[i].size();
-    addConstraints(*cr.general, cons[i], pointId);
+    if (!cr.general)
+      addConstraints(CGAL::intersection(EK::Triangle_3(ep[T[i][0]], ep[T[i][1]], ep[T[i][2]]),
+                                        EK::Triangle_3(ep[T[j][0]], ep[T[j][1]], ep[T[j][2]])),
+                     cons[i], pointId);
+    else
+      addConstraints(*cr.general, cons[i], pointId);
     cons[j].insert(cons[j].end(), cons[i].begin() + static_cast<std::ptrdiff_t>(before_i), cons[i].end());
   }
   cut_points = {};
