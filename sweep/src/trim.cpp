@@ -315,9 +315,17 @@ bool crosses(const std::vector<Point>& P, const Tri& s, const Tri& t) {
 // differences, two in each minor, two in each term of the sum; Shewchuk's orient3d bound is
 // 7). The sign is taken as certain beyond 8 units of 2^-52 of w . N, twice that, and never
 // when w . N is so small that underflow could spoil the bound.
+//
+// Points that are not doubles (cap points, see DyadicPairs) enter by their doubles, each within
+// `pad` of the true point per coordinate. The determinant is w . (q x r) with w = p - a, q = b - a,
+// r = c - a, so moving each of w, q and r by at most d = 2 pad per coordinate changes it by at
+// most 6 ((|w| + d) (|q| + d) (|r| + d) - |w| |q| |r|) (max norms; |x . (y x z)| <= 6 |x| |y| |z|),
+// which is added to the bound when a corner or the point is inexact.
 class DoublePlanes {
  public:
-  DoublePlanes(const std::vector<Vec>& V, const std::vector<Tri>& T) : V_(V), T_(T), n_(T.size()), perm_(T.size()) {
+  DoublePlanes(const std::vector<Vec>& V, const std::vector<Tri>& T, const std::vector<char>* inexact = nullptr,
+               double pad = 0)
+      : V_(V), T_(T), n_(T.size()), perm_(T.size()), inexact_(inexact), d_(2 * pad) {
     for (std::size_t f = 0; f < T.size(); ++f) {
       const Vec q = V[T[f][1]] - V[T[f][0]], r = V[T[f][2]] - V[T[f][0]];
       n_[f] = q.cross(r);
@@ -325,25 +333,45 @@ class DoublePlanes {
                      std::abs(q.x() * r.y()) + std::abs(q.y() * r.x()));
     }
   }
-  // Whether the corners of one triangle lie strictly on one side of the other's plane, certain
-  // in doubles (false when unsure, and for triangles that share a corner).
+  // Whether the corners of one triangle, but those it shares with the other, lie strictly on
+  // one side of the other's plane, certain in doubles (false when unsure): the triangles then
+  // meet in their shared corners at most.
   bool apart(int s, int t) const { return oneSide(s, t) || oneSide(t, s); }
 
  private:
-  // +1 or -1: the certain side of point p against the plane of triangle f; 0: unsure.
-  int side(int f, const Vec& p) const {
-    const Vec w = p - V_[T_[f][0]];
-    const double det = n_[f].dot(w), bound = 8 * 0x1.0p-52 * w.cwiseAbs().dot(perm_[f]);
+  // +1 or -1: the certain side of point v against the plane of triangle f; 0: unsure.
+  int side(int f, int v) const {
+    const Tri& t = T_[f];
+    const Vec w = V_[v] - V_[t[0]];
+    const double det = n_[f].dot(w);
+    double bound = 8 * 0x1.0p-52 * w.cwiseAbs().dot(perm_[f]);
+    if (inexact_ && ((*inexact_)[v] || (*inexact_)[t[0]] || (*inexact_)[t[1]] || (*inexact_)[t[2]])) {
+      const double W = w.cwiseAbs().maxCoeff(), Q = (V_[t[1]] - V_[t[0]]).cwiseAbs().maxCoeff(),
+                   R = (V_[t[2]] - V_[t[0]]).cwiseAbs().maxCoeff();
+      bound = (bound + 6 * ((W + d_) * (Q + d_) * (R + d_) - W * Q * R)) * (1 + 1e-12);
+    }
     if (!(bound > 1e-280)) return 0;
     return det > bound ? 1 : det < -bound ? -1 : 0;
   }
+  // Whether the corners of g that are not corners of f (at least one) lie strictly on one side
+  // of f's plane: g then meets that plane only in the shared corners, so it meets f in nothing
+  // more than them.
   bool oneSide(int f, int g) const {
-    const int s0 = side(f, V_[T_[g][0]]);
-    return s0 != 0 && side(f, V_[T_[g][1]]) == s0 && side(f, V_[T_[g][2]]) == s0;
+    const Tri &a = T_[f], &b = T_[g];
+    int s0 = 0;
+    for (const int v : b) {
+      if (v == a[0] || v == a[1] || v == a[2]) continue;
+      const int s = side(f, v);
+      if (s == 0 || (s0 != 0 && s != s0)) return false;
+      s0 = s;
+    }
+    return s0 != 0;
   }
   const std::vector<Vec>& V_;
   const std::vector<Tri>& T_;
   std::vector<Vec> n_, perm_;
+  const std::vector<char>* inexact_;
+  double d_;
 };
 
 // The pairs (i, j), i < j, of triangles whose boxes meet and that pass `keep(i, j)`, ordered by
@@ -965,7 +993,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   pad = 2 * pad;  // (rounding of the comparisons above)
   // (Most pairs whose boxes meet are apart, 22 of bunny00's 26 million at 1e-3: the planes
   // settle them before the exact predicates.)
-  const DoublePlanes planes(out.approx, T);
+  const DoublePlanes planes(out.approx, T, &inexact, pad);
   // Pairs with inexact corners are decided in Mpzf (DyadicPairs) where their formulas allow.
   const DyadicPairs dyadic(out.approx, ep, formula_of, formulas);
   auto dyadicPair = [&](int i, int j) {
@@ -976,7 +1004,8 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
     return true;
   };
   const auto pairs = crossingPairs(out.approx, pad, T, options.threads, [&](int i, int j) {
-    if (plain(T[i]) && plain(T[j])) return !planes.apart(i, j) && crosses(ip, T[i], T[j]);
+    if (planes.apart(i, j)) return false;
+    if (plain(T[i]) && plain(T[j])) return crosses(ip, T[i], T[j]);
     if (!dyadicPair(i, j)) return crosses(ep, T[i], T[j]);
     return dyadic.decide(T[i], T[j], [](const auto& P, const std::vector<Tri>& L, const int*) { return crosses(P, L[0], L[1]); });
   });
@@ -3096,14 +3125,8 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
   env.timings.cycle = t_cycle;
 
   {  // Q must be closed as a chain: every directed edge matched by its reverse
-    std::unordered_map<std::uint64_t, int> net;
-    net.reserve(3 * cycle.triangles.size());
-    for (const Tri& t : cycle.triangles)
-      for (int k = 0; k < 3; ++k) {
-        const int a = t[k], b = t[(k + 1) % 3];
-        net[edgeKey(a, b)] += a < b ? 1 : -1;
-      }
-    for (const auto& [key, n] : net) env.cycle_open_edges += n != 0;
+    const auto sides = edgeSides(cycle.triangles, cycle.vertices.size(), options.threads);
+    forEachEdge(sides, [&](std::size_t i, std::size_t j) { env.cycle_open_edges += netDirection(cycle.triangles, sides, i, j) != 0; });
   }
   auto t0 = std::chrono::steady_clock::now();
   const Arrangement A = arrange(cycle.vertices, cycle.exact, cycle.triangles, options);
