@@ -1070,38 +1070,43 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
     int sv[3];
     const int n = shared(T[i], T[j], sv);
     Crossing& x = crossing[k];
-    // (a pair renumbered by DyadicPairs: its cuts are named back by point and triangle numbers)
-    auto named = [&](const Cut& c, const int* map) { return Cut{map[c.a], map[c.b], c.tri == 0 ? i : j}; };
-    auto sharedCut = [&]() {
-      if (plain_pair) return sharedVertexCrossing(ip, T, i, j, sv[0], x.cut[0]);
-      if (!dyadic_pair) return sharedVertexCrossing(ep, T, i, j, sv[0], x.cut[0]);
+    // Runs test(P, Ts, a, b, map) on the pair's points: their doubles, their exact points, or the
+    // pair renumbered by DyadicPairs (Ts[a] and Ts[b] the two triangles in P; `map` the point
+    // numbers of P, null when P holds every point).
+    auto onPair = [&](auto&& test) {
+      if (plain_pair) return test(ip, T, i, j, nullptr);
+      if (!dyadic_pair) return test(ep, T, i, j, nullptr);
       return dyadic.decide(T[i], T[j], [&](const auto& P, const std::vector<Tri>& L, const int* map) {
-        int v = 0;
-        while (map[v] != sv[0]) ++v;
+        return test(P, L, 0, 1, map);
+      });
+    };
+    // A cut or an end found by test, named by point and triangle numbers.
+    auto named = [&](const Cut& c, const int* map) { return map ? Cut{map[c.a], map[c.b], c.tri == 0 ? i : j} : c; };
+    auto namedEnd = [&](const End& e, const int* map) {
+      return e.vertex >= 0 ? End{map ? map[e.vertex] : e.vertex, {-1, -1, -1}} : End{-1, named(e.cut, map)};
+    };
+    auto sharedCut = [&]() {
+      const int at = T[i][0] == sv[0] ? 0 : T[i][1] == sv[0] ? 1 : 2;
+      return onPair([&](const auto& P, const std::vector<Tri>& Ts, int a, int b, const int* map) {
         Cut c;
-        if (!sharedVertexCrossing(P, L, 0, 1, v, c)) return false;
+        if (!sharedVertexCrossing(P, Ts, a, b, Ts[a][at], c)) return false;
         x.cut[0] = named(c, map);
         return true;
       });
     };
     auto generalCuts = [&]() {
-      if (plain_pair) return generalCrossing(ip, T, i, j, x.cut);
-      if (!dyadic_pair) return generalCrossing(ep, T, i, j, x.cut);
-      return dyadic.decide(T[i], T[j], [&](const auto& P, const std::vector<Tri>& L, const int* map) {
+      return onPair([&](const auto& P, const std::vector<Tri>& Ts, int a, int b, const int* map) {
         Cut c[2];
-        if (!generalCrossing(P, L, 0, 1, c)) return false;
+        if (!generalCrossing(P, Ts, a, b, c)) return false;
         x.cut[0] = named(c[0], map), x.cut[1] = named(c[1], map);
         return true;
       });
     };
     auto lineEnds = [&]() {
-      if (plain_pair) return lineCrossing(ip, T, i, j, x.end);
-      if (!dyadic_pair) return lineCrossing(ep, T, i, j, x.end);
-      return dyadic.decide(T[i], T[j], [&](const auto& P, const std::vector<Tri>& L, const int* map) {
+      return onPair([&](const auto& P, const std::vector<Tri>& Ts, int a, int b, const int* map) {
         End e[4];
-        const int m = lineCrossing(P, L, 0, 1, e);
-        for (int k = 0; k < m; ++k)
-          x.end[k] = e[k].vertex >= 0 ? End{map[e[k].vertex], {-1, -1, -1}} : End{-1, named(e[k].cut, map)};
+        const int m = lineCrossing(P, Ts, a, b, e);
+        for (int k = 0; k < m; ++k) x.end[k] = namedEnd(e[k], map);
         return m;
       });
     };
