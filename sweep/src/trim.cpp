@@ -741,6 +741,9 @@ bool sharedVertexCrossing(const std::vector<Point>& P, const std::vector<Tri>& T
 struct End {
   int vertex = -1;
   Cut cut{-1, -1, -1};
+  // (coplanarPieces) where the edge (cross[0], cross[1]) of one triangle crosses the line of the
+  // edge (cross[2], cross[3]) of the other, in their common plane
+  std::array<int, 4> cross{{-1, -1, -1, -1}};
 };
 
 // The intersection of two triangles s and t (numbers i and j in T) whose planes cross in a
@@ -789,6 +792,97 @@ int lineCrossing(const std::vector<Point>& P, const std::vector<Tri>& T, int i, 
   return count;
 }
 
+// A piece of the boundary of the overlap of two coplanar triangles (coplanarPieces).
+struct Piece {
+  End from, to;
+};
+
+// The boundary of the overlap of two coplanar triangles s and t (numbers i and j in T), as the
+// pieces of each triangle's edges that lie in the other (closed): their union is the overlap's
+// boundary, which both triangulations need as constraints (the overlap then becomes faces that
+// both cut alike). P holds exact points in a ring type (Mpzf): each edge (a, b) is clipped by
+// the other triangle's three edge lines, with D(p) = ((d - c) x (p - c)) . n for an edge line
+// (c, d) and the triangle's normal n (positive inside). An end of a piece is a or b, or where
+// the edge crosses an edge line strictly (parameter D(a) / (D(a) - D(b)), compared by cross
+// multiplication). Returns the number of pieces (a touching point is a piece from a point to
+// itself), or -1 when t has a corner off s's plane.
+template <class Point>
+int coplanarPieces(const std::vector<Point>& P, const std::vector<Tri>& T, int i, int j, Piece out[6]) {
+  using K = typename CGAL::Kernel_traits<Point>::Kernel;
+  using FT = typename K::FT;
+  auto normal = [&](const Tri& y) { return CGAL::cross_product(P[y[1]] - P[y[0]], P[y[2]] - P[y[0]]); };
+  {
+    const auto n = normal(T[i]);
+    for (const int v : T[j])
+      if (CGAL::sign(n * (P[v] - P[T[i][0]])) != CGAL::ZERO) return -1;
+  }
+  int count = 0;
+  // The pieces of x's edges inside y. A bound of the edge parameter is p / q (q > 0) and where
+  // it comes from: k >= 0 the edge line k of y, -1 the edge's start a, -2 its end b.
+  struct Bound {
+    FT p, q;
+    int k;
+  };
+  auto clip = [&](const Tri& x, const Tri& y) {
+    const auto n = normal(y);
+    for (int e = 0; e < 3; ++e) {
+      const int a = x[e], b = x[(e + 1) % 3];
+      Bound lo{FT(0), FT(1), -1}, hi{FT(1), FT(1), -2};
+      auto below = [](const Bound& u, const Bound& w) { return u.p * w.q < w.p * u.q; };
+      bool empty = false;
+      for (int k = 0; k < 3 && !empty; ++k) {
+        const Point &c = P[y[k]], &d = P[y[(k + 1) % 3]];
+        const FT A = CGAL::cross_product(d - c, P[a] - c) * n, B = CGAL::cross_product(d - c, P[b] - c) * n;
+        const CGAL::Sign sa = CGAL::sign(A), sb = CGAL::sign(B);
+        if (sa != CGAL::NEGATIVE && sb != CGAL::NEGATIVE) continue;  // (both inside, or the edge on the line)
+        if (sa != CGAL::POSITIVE && sb != CGAL::POSITIVE) {
+          // Outside, but for an end on the line: only that end can be left.
+          if (sa == CGAL::ZERO) {
+            if (below(Bound{FT(0), FT(1), -1}, hi)) hi = Bound{FT(0), FT(1), -1};
+          } else if (sb == CGAL::ZERO) {
+            if (below(lo, Bound{FT(1), FT(1), -2})) lo = Bound{FT(1), FT(1), -2};
+          } else {
+            empty = true;
+          }
+          continue;
+        }
+        if (sa == CGAL::POSITIVE) {  // (sb < 0) the edge leaves at A / (A - B)
+          const Bound u{A, A - B, k};
+          if (below(u, hi)) hi = u;
+        } else {  // (sa < 0 < sb) the edge enters at -A / (B - A)
+          const Bound u{-A, B - A, k};
+          if (below(lo, u)) lo = u;
+        }
+      }
+      if (empty || below(hi, lo)) continue;
+      auto end = [&](const Bound& u) {
+        End x;
+        if (u.k == -1) x.vertex = a;
+        else if (u.k == -2) x.vertex = b;
+        else x.cross = {{a, b, y[u.k], y[(u.k + 1) % 3]}};
+        return x;
+      };
+      out[count++] = {end(lo), end(hi)};
+    }
+  };
+  clip(T[i], T[j]);
+  clip(T[j], T[i]);
+  return count;
+}
+
+// The point where the line through a and b meets the line through c and d, in their common plane
+// (the lines cross), in any kernel: a + (b - a) l with l = ((c - a) x w) . m / m . m, w = d - c,
+// m = (b - a) x w.
+template <class K>
+struct LineLinePoint {
+  using result_type = typename K::Point_3;
+  result_type operator()(const typename K::Point_3& a, const typename K::Point_3& b, const typename K::Point_3& c,
+                         const typename K::Point_3& d) const {
+    const typename K::Vector_3 u = b - a, w = d - c, m = CGAL::cross_product(u, w);
+    return a + u * ((CGAL::cross_product(c - a, w) * m) / (m * m));
+  }
+};
+
 // The point where the line through a and b meets the plane through p, q, r, in any kernel.
 template <class K>
 struct LinePlanePoint {
@@ -807,6 +901,7 @@ struct LinePlanePoint {
 // a million such points, most never evaluated.
 const CGAL::Lazy_construction<EK, LinePlanePoint<EK::Approximate_kernel>, LinePlanePoint<EK::Exact_kernel>>
     linePlanePoint{};
+const CGAL::Lazy_construction<EK, LineLinePoint<EK::Approximate_kernel>, LineLinePoint<EK::Exact_kernel>> lineLinePoint{};
 
 template <class Result, class PointId>
 void addConstraints(const Result& x, std::vector<Constraint>& into, PointId&& pointId) {
@@ -861,14 +956,8 @@ class DyadicPairs {
   template <class Fn>
   auto decide(const Tri& s, const Tri& t, Fn&& fn) const {
     int map[6];
-    int n = 0;
-    auto local = [&](int v) {
-      for (int k = 0; k < n; ++k)
-        if (map[k] == v) return k;
-      map[n] = v;
-      return n++;
-    };
-    const std::vector<Tri> T{{{local(s[0]), local(s[1]), local(s[2])}}, {{local(t[0]), local(t[1]), local(t[2])}}};
+    const std::vector<Tri> T = renumber(s, t, map);
+    const int n = points(T);
     {
       CGAL::Protect_FPU_rounding<true> guard;
       try {
@@ -879,13 +968,37 @@ class DyadicPairs {
       } catch (CGAL::Uncertain_conversion_exception&) {
       }
     }
-    std::vector<MK::Point_3> P;
-    P.reserve(static_cast<std::size_t>(n));
-    for (int k = 0; k < n; ++k) P.push_back(exactPoint(map[k]));
-    return fn(P, T, map);
+    return fn(exactPoints(map, n), T, map);
+  }
+  // The same on exact points only (for tests that need exact values, not only signs).
+  template <class Fn>
+  auto exactly(const Tri& s, const Tri& t, Fn&& fn) const {
+    int map[6];
+    const std::vector<Tri> T = renumber(s, t, map);
+    return fn(exactPoints(map, points(T)), T, map);
   }
 
  private:
+  // {s, t} with their points numbered 0, 1, ... in order of appearance (map[k]: point number).
+  static std::vector<Tri> renumber(const Tri& s, const Tri& t, int* map) {
+    int n = 0;
+    auto local = [&](int v) {
+      for (int k = 0; k < n; ++k)
+        if (map[k] == v) return k;
+      map[n] = v;
+      return n++;
+    };
+    return {{{local(s[0]), local(s[1]), local(s[2])}}, {{local(t[0]), local(t[1]), local(t[2])}}};
+  }
+  static int points(const std::vector<Tri>& T) {
+    return 1 + std::max({T[0][0], T[0][1], T[0][2], T[1][0], T[1][1], T[1][2]});
+  }
+  std::vector<MK::Point_3> exactPoints(const int* map, int n) const {
+    std::vector<MK::Point_3> P;
+    P.reserve(static_cast<std::size_t>(n));
+    for (int k = 0; k < n; ++k) P.push_back(exactPoint(map[k]));
+    return P;
+  }
   MK::Point_3 exactPoint(int v) const {
     auto plain = [&](int w, int k) { return CGAL::Mpzf(approx_[w][k]); };
     const int f = formula_[v];
@@ -1045,6 +1158,23 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
     }
     return *name;
   };
+  // Where the edge (a, b) of one triangle crosses the edge line (c, d) of a coplanar one, named
+  // by the two edges (either order).
+  struct CrossHash {
+    std::size_t operator()(const std::pair<std::uint64_t, std::uint64_t>& k) const {
+      return static_cast<std::size_t>(mixBits(k.first * 0x9E3779B97F4A7C15ull ^ k.second));
+    }
+  };
+  FlatTable<std::pair<std::uint64_t, std::uint64_t>, CrossHash> cross_points;
+  auto crossPoint = [&](const std::array<int, 4>& x) {
+    const std::uint64_t e = edgeKey(x[0], x[1]), f = edgeKey(x[2], x[3]);
+    const auto [name, added] = cross_points.emplace({std::min(e, f), std::max(e, f)}, -1);
+    if (added) *name = pointId(lineLinePoint(ep[x[0]], ep[x[1]], ep[x[2]], ep[x[3]]));
+    return *name;
+  };
+  auto endPoint = [&](const End& e) {
+    return e.vertex >= 0 ? e.vertex : e.cross[0] >= 0 ? crossPoint(e.cross) : cutPoint(e.cut);
+  };
   std::vector<std::vector<Constraint>> cons(T.size());
   // How each pair crosses, found by predicates alone in parallel: from a shared vertex to a cut
   // (kind 1), between two cuts (kind 2), between the ends lineCrossing finds (kind 3: planes
@@ -1058,8 +1188,8 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
     Cut cut[2];
     int kind = 0;
     int vertex = -1;                   // kind 1: the shared vertex
-    End end[4];                        // kind 3: the ends (lineCrossing)
-    int ends = 0;
+    // kind 3: the ends (lineCrossing); kind 4: the pieces (coplanarPieces), two ends each
+    std::unique_ptr<std::vector<End>> ends;
     std::unique_ptr<General> general;  // kind 0: the intersection
   };
   std::vector<Crossing> crossing(pairs.size());
@@ -1083,7 +1213,15 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
     // A cut or an end found by test, named by point and triangle numbers.
     auto named = [&](const Cut& c, const int* map) { return map ? Cut{map[c.a], map[c.b], c.tri == 0 ? i : j} : c; };
     auto namedEnd = [&](const End& e, const int* map) {
-      return e.vertex >= 0 ? End{map ? map[e.vertex] : e.vertex, {-1, -1, -1}} : End{-1, named(e.cut, map)};
+      End out;
+      if (e.vertex >= 0) {
+        out.vertex = map ? map[e.vertex] : e.vertex;
+      } else if (e.cross[0] >= 0) {
+        for (int k = 0; k < 4; ++k) out.cross[k] = map ? map[e.cross[k]] : e.cross[k];
+      } else {
+        out.cut = named(e.cut, map);
+      }
+      return out;
     };
     auto sharedCut = [&]() {
       const int at = T[i][0] == sv[0] ? 0 : T[i][1] == sv[0] ? 1 : 2;
@@ -1106,16 +1244,33 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
       return onPair([&](const auto& P, const std::vector<Tri>& Ts, int a, int b, const int* map) {
         End e[4];
         const int m = lineCrossing(P, Ts, a, b, e);
-        for (int k = 0; k < m; ++k) x.end[k] = namedEnd(e[k], map);
-        return m;
+        if (m > 0) {
+          x.ends = std::make_unique<std::vector<End>>();
+          for (int k = 0; k < m; ++k) x.ends->push_back(namedEnd(e[k], map));
+        }
+        return m > 0;
+      });
+    };
+    // (exact values: the pair's points in Mpzf, doubles included; not for the other inexact points)
+    auto coplanar = [&]() {
+      if (!plain_pair && !dyadic_pair) return false;
+      return dyadic.exactly(T[i], T[j], [&](const auto& P, const std::vector<Tri>& Ts, const int* map) {
+        Piece piece[6];
+        const int m = coplanarPieces(P, Ts, 0, 1, piece);
+        if (m < 0) return false;
+        x.ends = std::make_unique<std::vector<End>>();
+        for (int k = 0; k < m; ++k) x.ends->push_back(namedEnd(piece[k].from, map)), x.ends->push_back(namedEnd(piece[k].to, map));
+        return true;
       });
     };
     if (n == 1 && sharedCut())
       x.kind = 1, x.vertex = sv[0];
     else if (n == 0 && generalCuts())
       x.kind = 2;
-    else if (n < 2 && (x.ends = lineEnds()) > 0)
+    else if (n < 2 && lineEnds())
       x.kind = 3;
+    else if (coplanar())
+      x.kind = 4;
     else
       x.general = std::make_unique<General>(CGAL::intersection(EK::Triangle_3(ep[T[i][0]], ep[T[i][1]], ep[T[i][2]]),
                                                                EK::Triangle_3(ep[T[j][0]], ep[T[j][1]], ep[T[j][2]])));
@@ -1133,11 +1288,18 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
     else if (cr.kind == 3) {
       // (the ends' names are of at most two points; more would be a fault: intersect in general)
       int ids[4], m = 0;
-      for (int e = 0; e < cr.ends; ++e) {
-        const int id = cr.end[e].vertex >= 0 ? cr.end[e].vertex : cutPoint(cr.end[e].cut);
+      for (const End& e : *cr.ends) {
+        const int id = endPoint(e);
         if (std::find(ids, ids + m, id) == ids + m) ids[m++] = id;
       }
       if (m <= 2) c = {ids[0], ids[m - 1]};
+    } else if (cr.kind == 4) {  // (coplanar: the pieces bound the overlap in both triangles)
+      for (std::size_t e = 0; e < cr.ends->size(); e += 2) {
+        const Constraint piece{endPoint((*cr.ends)[e]), endPoint((*cr.ends)[e + 1])};
+        cons[i].push_back(piece);
+        cons[j].push_back(piece);
+      }
+      continue;
     }
     if (c.a >= 0) {  // (the planes cross in a line: the pair is not coplanar)
       cons[i].push_back({c.a, c.b, j});
@@ -1154,6 +1316,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
     cons[j].insert(cons[j].end(), cons[i].begin() + static_cast<std::ptrdiff_t>(before_i), cons[i].end());
   }
   cut_points = {};
+  cross_points = {};
   std::vector<Crossing>().swap(crossing);
   out.crossing_pairs = pairs.size();
 
