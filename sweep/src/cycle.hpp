@@ -15,12 +15,13 @@
 
 namespace steady::sweep::detail {
 
-// Where a cap vertex lies exactly: X = A + s (B - A) + t (C - A), with A, B, C vertices of the
-// cycle that are posed body vertices (c < 0 when t = 0: a point on the segment AB) and s, t read
-// as exact numbers. Its double coordinates round this point. Caps built this way lie exactly in
-// the posed faces' planes, so the caps that two spans of a polySAM leave on the same posed body
-// are exactly coplanar and the trimming resolves their overlap exactly instead of finding
-// near-coplanar sheets that cross. a < 0: the vertex is exactly its double coordinates.
+// Where a cap vertex lies exactly: X = A + s (B - A) + t (C - A), with A, B, C earlier vertices
+// of the cycle (posed body vertices, or such points of the joint a span starts from; c < 0 when
+// t = 0: a point on the segment AB) and s, t read as exact numbers. Its double coordinates round
+// this point. Caps built this way lie exactly in the posed faces' planes, so the caps that two
+// spans of a polySAM leave on the same posed body are exactly coplanar and the trimming
+// resolves their overlap exactly instead of finding near-coplanar sheets that cross. a < 0: the
+// vertex is exactly its double coordinates.
 struct ExactPosition {
   int a = -1, b = -1, c = -1;
   double s = 0, t = 0;

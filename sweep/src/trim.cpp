@@ -921,35 +921,48 @@ void addConstraints(const Result& x, std::vector<Constraint>& into, PointId&& po
   }
 }
 
-// Exact predicates on pairs of triangles whose corners include cap points of a polySAM's joints
-// (detail::ExactPosition: A + s (B - A) + t (C - A), with A, B, C, s and t doubles). Such a
-// point's coordinates are dyadic rationals, sums of products of doubles, so every predicate the
-// crossing tests use (orientations, coplanar orientations, segment/triangle and
-// triangle/triangle tests, all sign of polynomials in the coordinates) is decided exactly by
-// ring arithmetic on CGAL's Mpzf (a binary floating-point number with an unbounded mantissa: no
-// division, no gcd), after an interval filter. Through Epeck the same tests evaluated the
-// points and the determinants in GMP rationals, reduced by a gcd at every operation: on the
-// CGAL sphere along the bundled bi-arc motion, where strips of two spans continue across a
-// joint nearly in one plane and the filter cannot decide, that was 5.3 of the 8.8 s of the
-// intersections. A pair is renumbered to its own (at most six) points, shared corners once, so
-// that the templated tests (crosses, sharedVertexCrossing, generalCrossing) run unchanged on
+// Exact predicates on pairs of triangles whose corners include cap points (detail::ExactPosition:
+// A + s (B - A) + t (C - A) with s, t doubles and A, B, C doubles or such points themselves; a
+// polySAM's joints reuse the previous span's points). Such a point's coordinates are dyadic
+// rationals, sums of products of doubles, so every predicate the crossing tests use
+// (orientations, coplanar orientations, segment/triangle and triangle/triangle tests, all
+// signs of polynomials in the coordinates) is decided exactly by ring arithmetic on CGAL's Mpzf
+// (a binary floating-point number with an unbounded mantissa: no division, no gcd), after an
+// interval filter. Through Epeck the same tests evaluated the points and the determinants in
+// GMP rationals, reduced by a gcd at every operation: on the CGAL sphere along the bundled
+// bi-arc motion, where strips of two spans continue across a joint nearly in one plane and the
+// filter cannot decide, that was 5.3 of the 8.8 s of the intersections. A pair is renumbered
+// to its own (at most six) points, shared corners once, so that the templated tests (crosses,
+// sharedVertexCrossing, generalCrossing, lineCrossing, coplanarPieces) run unchanged on
 // interval points (CGAL's Uncertain values throw where the intervals cannot decide) and then,
 // if they threw, on exact Mpzf points.
 class DyadicPairs {
  public:
   using FK = CGAL::Simple_cartesian<CGAL::Interval_nt<false>>;  // (Epeck's approximate kernel)
   using MK = CGAL::Simple_cartesian<CGAL::Mpzf>;
-  // A point X = P[a] + s (P[b] - P[a]) + t (P[c] - P[a]) of plain points a, b, c (c < 0: t = 0).
-  struct Formula {
-    int a = -1, b = -1, c = -1;
-    double s = 0, t = 0;
-  };
 
-  // `approx`: every point's doubles (exact for plain points); `interval`: every point's interval
-  // box; `formula`: per point, -1 for a plain point, else its index in `formulas`.
-  DyadicPairs(const std::vector<Vec>& approx, const std::vector<EPoint>& exact, const std::vector<int>& formula,
-              const std::vector<Formula>& formulas)
-      : approx_(approx), exact_(exact), formula_(formula), formulas_(formulas) {}
+  // `approx`: every point's doubles (exact for the points that are doubles); `exact`: every
+  // point (its interval is the filter's); `X`: per point, a < 0 for a double, else its formula
+  // on points numbered before it.
+  DyadicPairs(const std::vector<Vec>& approx, const std::vector<EPoint>& exact,
+              const std::vector<detail::ExactPosition>& X)
+      : approx_(approx), exact_(exact), formula_(X.size(), -1) {
+    for (std::size_t v = 0; v < X.size(); ++v) {
+      const detail::ExactPosition& x = X[v];
+      if (x.a < 0) continue;
+      auto coord = [&](int w, int k) {
+        return formula_[w] < 0 ? CGAL::Mpzf(approx_[w][k]) : points_[static_cast<std::size_t>(formula_[w])][k];
+      };
+      CGAL::Mpzf c[3];
+      for (int k = 0; k < 3; ++k) {
+        const CGAL::Mpzf a = coord(x.a, k);
+        c[k] = a + CGAL::Mpzf(x.s) * (coord(x.b, k) - a);
+        if (x.c >= 0) c[k] = c[k] + CGAL::Mpzf(x.t) * (coord(x.c, k) - a);
+      }
+      formula_[v] = static_cast<int>(points_.size());
+      points_.emplace_back(c[0], c[1], c[2]);
+    }
+  }
 
   // fn(P, T, map): P the pair's points (interval first, exact if that throws), T = {s, t}
   // renumbered into P, map[k] the point number of P[k].
@@ -996,42 +1009,34 @@ class DyadicPairs {
   std::vector<MK::Point_3> exactPoints(const int* map, int n) const {
     std::vector<MK::Point_3> P;
     P.reserve(static_cast<std::size_t>(n));
-    for (int k = 0; k < n; ++k) P.push_back(exactPoint(map[k]));
-    return P;
-  }
-  MK::Point_3 exactPoint(int v) const {
-    auto plain = [&](int w, int k) { return CGAL::Mpzf(approx_[w][k]); };
-    const int f = formula_[v];
-    if (f < 0) return MK::Point_3(plain(v, 0), plain(v, 1), plain(v, 2));
-    const Formula& x = formulas_[static_cast<std::size_t>(f)];
-    CGAL::Mpzf c[3];
-    for (int k = 0; k < 3; ++k) {
-      const CGAL::Mpzf a = plain(x.a, k);
-      c[k] = a + CGAL::Mpzf(x.s) * (plain(x.b, k) - a);
-      if (x.c >= 0) c[k] = c[k] + CGAL::Mpzf(x.t) * (plain(x.c, k) - a);
+    for (int k = 0; k < n; ++k) {
+      const int f = formula_[static_cast<std::size_t>(map[k])];
+      if (f >= 0) {
+        P.push_back(points_[static_cast<std::size_t>(f)]);
+      } else {
+        const Vec& x = approx_[static_cast<std::size_t>(map[k])];
+        P.emplace_back(x.x(), x.y(), x.z());
+      }
     }
-    return MK::Point_3(c[0], c[1], c[2]);
+    return P;
   }
 
   const std::vector<Vec>& approx_;
   const std::vector<EPoint>& exact_;
-  const std::vector<int>& formula_;
-  const std::vector<Formula>& formulas_;
+  std::vector<int> formula_;          // per point: -1 (a double) or its index in points_
+  std::vector<MK::Point_3> points_;   // the exact points that are not doubles
 };
 
 Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPosition>& X,
                     const std::vector<Tri>& T0, const SweepOptions& options) {
   // Exact positions of the vertices; equal positions are merged (-0 and +0 alike), degenerate
   // triangles dropped. Points that are not doubles (cap points placed exactly in posed faces'
-  // planes, see detail::ExactPosition) are flagged: tests that involve them use Epeck.
+  // planes, see detail::ExactPosition) are flagged: tests that involve them use DyadicPairs.
   std::vector<int> id(V.size());
   std::vector<IPoint> ip;      // the double points (rounded, for flagged points)
   std::vector<EPoint> ep;      // the exact points
   std::vector<char> inexact;   // per point: not a double
-  // Per point: -1 (a double), the index of its formula in `formulas` (see DyadicPairs), or -2 (an
-  // inexact point whose formula does not rest on doubles: its pairs go through Epeck).
-  std::vector<int> formula_of;
-  std::vector<DyadicPairs::Formula> formulas;
+  std::vector<detail::ExactPosition> formula;  // per point: how it is made (see DyadicPairs)
   {
     struct Hash {
       std::size_t operator()(const std::array<double, 3>& x) const {
@@ -1053,16 +1058,9 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
         key = {{CGAL::to_double(p.x()) + 0.0, CGAL::to_double(p.y()) + 0.0, CGAL::to_double(p.z()) + 0.0}};
         if (p != EPoint(key[0], key[1], key[2])) {
           auto [it, added] = seen_exact.emplace(p, static_cast<int>(ep.size()));
-          if (added) {
-            ip.emplace_back(key[0], key[1], key[2]), ep.push_back(p), inexact.push_back(1);
-            const int a = id[x.a], b = id[x.b], c = x.c >= 0 ? id[x.c] : -1;
-            if (inexact[a] || inexact[b] || (c >= 0 && inexact[c])) {
-              formula_of.push_back(-2);
-            } else {
-              formula_of.push_back(static_cast<int>(formulas.size()));
-              formulas.push_back({a, b, c, x.s, x.c >= 0 ? x.t : 0.0});
-            }
-          }
+          if (added)
+            ip.emplace_back(key[0], key[1], key[2]), ep.push_back(p), inexact.push_back(1),
+                formula.push_back({id[x.a], id[x.b], x.c >= 0 ? id[x.c] : -1, x.s, x.c >= 0 ? x.t : 0.0});
           id[i] = it->second;
           continue;
         }
@@ -1070,7 +1068,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
       auto [it, added] = seen.emplace(key, static_cast<int>(ip.size()));
       if (added)
         ip.emplace_back(key[0], key[1], key[2]), ep.emplace_back(key[0], key[1], key[2]), inexact.push_back(0),
-            formula_of.push_back(-1);
+            formula.emplace_back();
       id[i] = it->second;
     }
   }
@@ -1107,19 +1105,11 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   // (Most pairs whose boxes meet are apart, 22 of bunny00's 26 million at 1e-3: the planes
   // settle them before the exact predicates.)
   const DoublePlanes planes(out.approx, T, &inexact, pad);
-  // Pairs with inexact corners are decided in Mpzf (DyadicPairs) where their formulas allow.
-  const DyadicPairs dyadic(out.approx, ep, formula_of, formulas);
-  auto dyadicPair = [&](int i, int j) {
-    for (const int v : T[i])
-      if (formula_of[v] == -2) return false;
-    for (const int v : T[j])
-      if (formula_of[v] == -2) return false;
-    return true;
-  };
+  // Pairs with inexact corners are decided in Mpzf (DyadicPairs).
+  const DyadicPairs dyadic(out.approx, ep, formula);
   const auto pairs = crossingPairs(out.approx, pad, T, options.threads, [&](int i, int j) {
     if (planes.apart(i, j)) return false;
     if (plain(T[i]) && plain(T[j])) return crosses(ip, T[i], T[j]);
-    if (!dyadicPair(i, j)) return crosses(ep, T[i], T[j]);
     return dyadic.decide(T[i], T[j], [](const auto& P, const std::vector<Tri>& L, const int*) { return crosses(P, L[0], L[1]); });
   });
   // (cells of 2^-14 of the scene's size)
@@ -1196,16 +1186,14 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   parallelFor(0, pairs.size(), options.threads, [&](std::size_t k) {
     const auto [i, j] = pairs[k];
     const bool plain_pair = plain(T[i]) && plain(T[j]);
-    const bool dyadic_pair = !plain_pair && dyadicPair(i, j);
     int sv[3];
     const int n = shared(T[i], T[j], sv);
     Crossing& x = crossing[k];
-    // Runs test(P, Ts, a, b, map) on the pair's points: their doubles, their exact points, or the
-    // pair renumbered by DyadicPairs (Ts[a] and Ts[b] the two triangles in P; `map` the point
-    // numbers of P, null when P holds every point).
+    // Runs test(P, Ts, a, b, map) on the pair's points: their doubles, or the pair renumbered by
+    // DyadicPairs (Ts[a] and Ts[b] the two triangles in P; `map` the point numbers of P, null
+    // when P holds every point).
     auto onPair = [&](auto&& test) {
       if (plain_pair) return test(ip, T, i, j, nullptr);
-      if (!dyadic_pair) return test(ep, T, i, j, nullptr);
       return dyadic.decide(T[i], T[j], [&](const auto& P, const std::vector<Tri>& L, const int* map) {
         return test(P, L, 0, 1, map);
       });
@@ -1251,9 +1239,8 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
         return m > 0;
       });
     };
-    // (exact values: the pair's points in Mpzf, doubles included; not for the other inexact points)
+    // (exact values: the pair's points in Mpzf, doubles included)
     auto coplanar = [&]() {
-      if (!plain_pair && !dyadic_pair) return false;
       return dyadic.exactly(T[i], T[j], [&](const auto& P, const std::vector<Tri>& Ts, const int* map) {
         Piece piece[6];
         const int m = coplanarPieces(P, Ts, 0, 1, piece);
