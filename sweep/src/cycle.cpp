@@ -48,7 +48,6 @@
 #include <limits>
 #include <numeric>
 #include <string>
-#include <unordered_map>
 
 namespace steady::sweep::detail {
 
@@ -666,43 +665,35 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
 }
 
 void cancelOpposite(Cycle& cycle) {
-  // Per set of three vertices: the triangles on it, counted +1 in one orientation (the
-  // rotations of (a, b, c) with a < b < c) and -1 in the other.
-  struct Key {
+  // Per triangle: its set of three vertices (sorted), its position, and +1 in one orientation
+  // (the rotations of (a, b, c) with a < b < c) or -1 in the other; sorted by set, then
+  // position (a sort, not a hash map: a smooth polySAM has a million cycle triangles).
+  struct Entry {
     std::array<int, 3> v;
-    bool operator==(const Key& o) const { return v == o.v; }
+    int index, sign;
   };
-  struct KeyHash {
-    std::size_t operator()(const Key& k) const {
-      std::uint64_t h = static_cast<std::uint32_t>(k.v[0]);
-      h = h * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint32_t>(k.v[1]);
-      h = h * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint32_t>(k.v[2]);
-      return static_cast<std::size_t>(h ^ (h >> 29));
-    }
-  };
-  auto signOf = [](std::array<int, 3> t, Key& key) {
+  std::vector<Entry> entries(cycle.triangles.size());
+  for (std::size_t f = 0; f < cycle.triangles.size(); ++f) {
+    std::array<int, 3> t = cycle.triangles[f];
     // (rotate the smallest vertex first; then the order of the other two is the orientation)
     while (t[0] > t[1] || t[0] > t[2]) std::rotate(t.begin(), t.begin() + 1, t.end());
-    key.v = t;
-    if (t[1] > t[2]) std::swap(key.v[1], key.v[2]);
-    return t[1] < t[2] ? 1 : -1;
-  };
-  std::unordered_map<Key, int, KeyHash> net;
-  net.reserve(cycle.triangles.size());
-  Key key;
-  for (const auto& t : cycle.triangles) {
-    const int sign = signOf(t, key);
-    net[key] += sign;
+    const int sign = t[1] < t[2] ? 1 : -1;
+    if (t[1] > t[2]) std::swap(t[1], t[2]);
+    entries[f] = {t, static_cast<int>(f), sign};
   }
-  // Keep, in order, the first |net| triangles of the orientation that remains.
+  std::sort(entries.begin(), entries.end(),
+            [](const Entry& x, const Entry& y) { return x.v != y.v ? x.v < y.v : x.index < y.index; });
+  // Of each set, keep the first |net| triangles of the orientation that remains, in order.
+  std::vector<char> keep(cycle.triangles.size(), 0);
+  for (std::size_t a = 0, b = 0; a < entries.size(); a = b) {
+    int net = 0;
+    for (b = a; b < entries.size() && entries[b].v == entries[a].v; ++b) net += entries[b].sign;
+    for (std::size_t k = a; k < b && net != 0; ++k)
+      if (entries[k].sign * net > 0) keep[static_cast<std::size_t>(entries[k].index)] = 1, net -= entries[k].sign;
+  }
   std::size_t kept = 0;
-  for (const auto& t : cycle.triangles) {
-    const int sign = signOf(t, key);
-    int& n = net[key];
-    if (n * sign <= 0) continue;
-    n -= sign;
-    cycle.triangles[kept++] = t;
-  }
+  for (std::size_t f = 0; f < cycle.triangles.size(); ++f)
+    if (keep[f]) cycle.triangles[kept++] = cycle.triangles[f];
   cycle.triangles.resize(kept);
 }
 
