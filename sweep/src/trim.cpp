@@ -942,27 +942,11 @@ class DyadicPairs {
   using MK = CGAL::Simple_cartesian<CGAL::Mpzf>;
 
   // `approx`: every point's doubles (exact for the points that are doubles); `exact`: every
-  // point (its interval is the filter's); `X`: per point, a < 0 for a double, else its formula
-  // on points numbered before it.
-  DyadicPairs(const std::vector<Vec>& approx, const std::vector<EPoint>& exact,
-              const std::vector<detail::ExactPosition>& X)
-      : approx_(approx), exact_(exact), formula_(X.size(), -1) {
-    for (std::size_t v = 0; v < X.size(); ++v) {
-      const detail::ExactPosition& x = X[v];
-      if (x.a < 0) continue;
-      auto coord = [&](int w, int k) {
-        return formula_[w] < 0 ? CGAL::Mpzf(approx_[w][k]) : points_[static_cast<std::size_t>(formula_[w])][k];
-      };
-      CGAL::Mpzf c[3];
-      for (int k = 0; k < 3; ++k) {
-        const CGAL::Mpzf a = coord(x.a, k);
-        c[k] = a + CGAL::Mpzf(x.s) * (coord(x.b, k) - a);
-        if (x.c >= 0) c[k] = c[k] + CGAL::Mpzf(x.t) * (coord(x.c, k) - a);
-      }
-      formula_[v] = static_cast<int>(points_.size());
-      points_.emplace_back(c[0], c[1], c[2]);
-    }
-  }
+  // point (its interval is the filter's); `index`: per point, -1 for a double, else the index of
+  // its exact coordinates in `points`.
+  DyadicPairs(const std::vector<Vec>& approx, const std::vector<EPoint>& exact, std::vector<int> index,
+              std::vector<MK::Point_3> points)
+      : approx_(approx), exact_(exact), formula_(std::move(index)), points_(std::move(points)) {}
 
   // fn(P, T, map): P the pair's points (interval first, exact if that throws), T = {s, t}
   // renumbered into P, map[k] the point number of P[k].
@@ -1036,7 +1020,9 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   std::vector<IPoint> ip;      // the double points (rounded, for flagged points)
   std::vector<EPoint> ep;      // the exact points
   std::vector<char> inexact;   // per point: not a double
-  std::vector<detail::ExactPosition> formula;  // per point: how it is made (see DyadicPairs)
+  // Per point: -1 (a double) or the index of its exact coordinates in exact_points.
+  std::vector<int> exact_index;
+  std::vector<DyadicPairs::MK::Point_3> exact_points;
   {
     struct Hash {
       std::size_t operator()(const std::array<double, 3>& x) const {
@@ -1046,21 +1032,43 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
       }
     };
     std::unordered_map<std::array<double, 3>, int, Hash> seen;
-    std::map<EPoint, int> seen_exact;
+    std::map<std::array<CGAL::Mpzf, 3>, int> seen_exact;
     for (std::size_t i = 0; i < V.size(); ++i) {
       std::array<double, 3> key{{V[i].x() + 0.0, V[i].y() + 0.0, V[i].z() + 0.0}};
       const detail::ExactPosition& x = X[i];
       if (x.a >= 0) {
-        const EPoint& A = ep[id[x.a]];
-        EK::Vector_3 d = (ep[id[x.b]] - A) * EK::FT(x.s);
-        if (x.c >= 0) d = d + (ep[id[x.c]] - A) * EK::FT(x.t);
-        const EPoint p = A + d;
-        key = {{CGAL::to_double(p.x()) + 0.0, CGAL::to_double(p.y()) + 0.0, CGAL::to_double(p.z()) + 0.0}};
-        if (p != EPoint(key[0], key[1], key[2])) {
-          auto [it, added] = seen_exact.emplace(p, static_cast<int>(ep.size()));
-          if (added)
-            ip.emplace_back(key[0], key[1], key[2]), ep.push_back(p), inexact.push_back(1),
-                formula.push_back({id[x.a], id[x.b], x.c >= 0 ? id[x.c] : -1, x.s, x.c >= 0 ? x.t : 0.0});
+        // (the exact coordinates, in Mpzf: products and sums of doubles and earlier such points)
+        auto coord = [&](int w, int k) {
+          const int m = id[w];
+          return exact_index[m] < 0 ? CGAL::Mpzf(ip[m][k]) : exact_points[static_cast<std::size_t>(exact_index[m])][k];
+        };
+        std::array<CGAL::Mpzf, 3> c;
+        for (int k = 0; k < 3; ++k) {
+          const CGAL::Mpzf a = coord(x.a, k);
+          c[k] = a + CGAL::Mpzf(x.s) * (coord(x.b, k) - a);
+          if (x.c >= 0) c[k] = c[k] + CGAL::Mpzf(x.t) * (coord(x.c, k) - a);
+        }
+        {
+          // The doubles: those of the same formula in Epeck's interval arithmetic (not evaluated
+          // exactly), as before the exact values were made in Mpzf. Rounded to nearest instead,
+          // these doubles moved by an ulp, and the envelopes of 3 tests' polySAMs, rounded at the
+          // end, self-intersected (4 pairs in each of the two looked at).
+          const EPoint& A = ep[id[x.a]];
+          EK::Vector_3 d = (ep[id[x.b]] - A) * EK::FT(x.s);
+          if (x.c >= 0) d = d + (ep[id[x.c]] - A) * EK::FT(x.t);
+          const EPoint p = A + d;
+          key = {{CGAL::to_double(p.x()) + 0.0, CGAL::to_double(p.y()) + 0.0, CGAL::to_double(p.z()) + 0.0}};
+        }
+        if (!(c[0] == CGAL::Mpzf(key[0]) && c[1] == CGAL::Mpzf(key[1]) && c[2] == CGAL::Mpzf(key[2]))) {
+          auto [it, added] = seen_exact.emplace(c, static_cast<int>(ep.size()));
+          if (added) {
+            ip.emplace_back(key[0], key[1], key[2]), inexact.push_back(1);
+            // (a point made from its exact value: no expression to evaluate, its interval tight)
+            ep.emplace_back(EK::FT(static_cast<mpq_class>(c[0])), EK::FT(static_cast<mpq_class>(c[1])),
+                            EK::FT(static_cast<mpq_class>(c[2])));
+            exact_index.push_back(static_cast<int>(exact_points.size()));
+            exact_points.emplace_back(c[0], c[1], c[2]);
+          }
           id[i] = it->second;
           continue;
         }
@@ -1068,7 +1076,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
       auto [it, added] = seen.emplace(key, static_cast<int>(ip.size()));
       if (added)
         ip.emplace_back(key[0], key[1], key[2]), ep.emplace_back(key[0], key[1], key[2]), inexact.push_back(0),
-            formula.emplace_back();
+            exact_index.push_back(-1);
       id[i] = it->second;
     }
   }
@@ -1087,9 +1095,9 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   // Crossing pairs and their exact intersections. Every point gets its number when it is made:
   // points are identified by exact equality (PointIndex: exact comparisons only between points
   // whose interval boxes overlap), and cut points by their names first. The inexact points are
-  // evaluated exactly first: the parallel tests of the pairs then leave every point's interval
-  // as it was, and the doubles of the points made from them do not depend on the tests' timing
-  // (see Arrangement::approx). `pad` bounds how far the inexact points' doubles are from them.
+  // made from their exact values: no parallel step narrows their intervals, so the doubles of
+  // the points made from them do not depend on the steps' timing (see Arrangement::approx).
+  // `pad` bounds how far the inexact points' doubles are from them.
   Arrangement out;
   out.points = ep;
   out.approx.reserve(ip.size());
@@ -1097,7 +1105,6 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   for (std::size_t v = 0; v < ip.size(); ++v) {
     const Vec& x = out.approx.emplace_back(ip[v].x(), ip[v].y(), ip[v].z());
     if (!inexact[v]) continue;
-    (void)ep[v].exact();
     const CGAL::Bbox_3 b = ep[v].bbox();
     for (int k = 0; k < 3; ++k) pad = std::max({pad, x[k] - b.min(k), b.max(k) - x[k]});
   }
@@ -1106,7 +1113,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   // settle them before the exact predicates.)
   const DoublePlanes planes(out.approx, T, &inexact, pad);
   // Pairs with inexact corners are decided in Mpzf (DyadicPairs).
-  const DyadicPairs dyadic(out.approx, ep, formula);
+  const DyadicPairs dyadic(out.approx, ep, std::move(exact_index), std::move(exact_points));
   const auto pairs = crossingPairs(out.approx, pad, T, options.threads, [&](int i, int j) {
     if (planes.apart(i, j)) return false;
     if (plain(T[i]) && plain(T[j])) return crosses(ip, T[i], T[j]);
