@@ -756,7 +756,7 @@ struct End {
 // do not take both signs (a zero: the point is on that edge's line). Sets `out` to those ends
 // (up to four names of at most two points: an end of s's segment can be an end of t's too)
 // and returns their number; returns 0 for coplanar triangles (every corner of t on s's plane),
-// which the general exact intersection handles. This covers the pairs that generalCrossing and
+// which coplanarPieces handles. This covers the pairs that generalCrossing and
 // sharedVertexCrossing leave: a corner on the other's plane, an edge in it, edges meeting at a
 // point of an edge line (a polySAM's strips start at points placed exactly in posed faces).
 template <class Point>
@@ -933,9 +933,9 @@ void addConstraints(const Result& x, std::vector<Constraint>& into, PointId&& po
 // bi-arc motion, where strips of two spans continue across a joint nearly in one plane and the
 // filter cannot decide, that was 5.3 of the 8.8 s of the intersections. A pair is renumbered
 // to its own (at most six) points, shared corners once, so that the templated tests (crosses,
-// sharedVertexCrossing, generalCrossing, lineCrossing, coplanarPieces) run unchanged on
-// interval points (CGAL's Uncertain values throw where the intervals cannot decide) and then,
-// if they threw, on exact Mpzf points.
+// sharedVertexCrossing, generalCrossing, lineCrossing) run unchanged on interval points
+// (CGAL's Uncertain values throw where the intervals cannot decide) and then, if they threw,
+// on exact Mpzf points; coplanarPieces, which needs exact values, runs on the exact points.
 class DyadicPairs {
  public:
   using FK = CGAL::Simple_cartesian<CGAL::Interval_nt<false>>;  // (Epeck's approximate kernel)
@@ -946,7 +946,7 @@ class DyadicPairs {
   // its exact coordinates in `points`.
   DyadicPairs(const std::vector<Vec>& approx, const std::vector<EPoint>& exact, std::vector<int> index,
               std::vector<MK::Point_3> points)
-      : approx_(approx), exact_(exact), formula_(std::move(index)), points_(std::move(points)) {}
+      : approx_(approx), exact_(exact), index_(std::move(index)), points_(std::move(points)) {}
 
   // fn(P, T, map): P the pair's points (interval first, exact if that throws), T = {s, t}
   // renumbered into P, map[k] the point number of P[k].
@@ -994,7 +994,7 @@ class DyadicPairs {
     std::vector<MK::Point_3> P;
     P.reserve(static_cast<std::size_t>(n));
     for (int k = 0; k < n; ++k) {
-      const int f = formula_[static_cast<std::size_t>(map[k])];
+      const int f = index_[static_cast<std::size_t>(map[k])];
       if (f >= 0) {
         P.push_back(points_[static_cast<std::size_t>(f)]);
       } else {
@@ -1007,7 +1007,7 @@ class DyadicPairs {
 
   const std::vector<Vec>& approx_;
   const std::vector<EPoint>& exact_;
-  std::vector<int> formula_;          // per point: -1 (a double) or its index in points_
+  std::vector<int> index_;            // per point: -1 (a double) or its index in points_
   std::vector<MK::Point_3> points_;   // the exact points that are not doubles
 };
 
@@ -1175,11 +1175,10 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   std::vector<std::vector<Constraint>> cons(T.size());
   // How each pair crosses, found by predicates alone in parallel: from a shared vertex to a cut
   // (kind 1), between two cuts (kind 2), between the ends lineCrossing finds (kind 3: planes
-  // that cross, in special position), or otherwise (kind 0: coplanar pairs, CGAL's exact
-  // intersection, also made in parallel). The cut points and the intersections' points are then named and numbered
-  // in pair order on this thread, so the numbering is the same for any number of threads. (The
-  // intersections were made on this thread before: 4.8 s of the sphere's 12.4 s along the
-  // bundled bi-arc motion, 57k pairs of nearly coplanar cap pieces at the joints.)
+  // that cross, in special position), along the pieces coplanarPieces finds (kind 4), or
+  // otherwise (kind 0: CGAL's exact intersection, a fallback that no measured case reaches).
+  // The points are then named and numbered in pair order on this thread, so the numbering is
+  // the same for any number of threads.
   using General = decltype(CGAL::intersection(std::declval<EK::Triangle_3>(), std::declval<EK::Triangle_3>()));
   struct Crossing {
     Cut cut[2];
