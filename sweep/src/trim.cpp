@@ -667,7 +667,7 @@ struct Cut {
 // other's plane lying in one plane with an edge of the other. Their intersection is then a
 // segment whose two ends are each an edge of one triangle crossing the interior of the other;
 // these are found with orientation predicates on the input points alone, and no intersection
-// is constructed. Returns false in every other case, which the general exact intersection
+// is constructed. Returns false in every other case, which lineCrossing or coplanarPieces
 // handles.
 template <class Point>
 bool generalCrossing(const std::vector<Point>& P, const std::vector<Tri>& T, int i, int j, Cut out[2]) {
@@ -702,7 +702,7 @@ bool generalCrossing(const std::vector<Point>& P, const std::vector<Tri>& T, int
 // strictly on either side) at a point X of t, the segment is [v, X] (X lies in s and t, and the
 // line meets t in no more than [v, X]), and likewise with s and t swapped. Sets `cut` to the
 // edge and triangle that name X. Returns false in every other case (an end on the other
-// plane, coplanar triangles), which the general exact intersection handles.
+// plane, coplanar triangles), which lineCrossing or coplanarPieces handles.
 template <class Point>
 bool sharedVertexCrossing(const std::vector<Point>& P, const std::vector<Tri>& T, int i, int j, int v, Cut& cut) {
   using K = typename CGAL::Kernel_traits<Point>::Kernel;
