@@ -4,8 +4,9 @@
 //
 // 1. Arrangement. Vertices of the cycle with equal coordinates are merged. Pairs of triangles
 //    whose boxes meet (a box hierarchy, in parallel) are tested with exact predicates on the
-//    double input (Epick); the pairs that cross are intersected in exact arithmetic (Epeck:
-//    named points where an edge crosses a triangle, CGAL's intersection for degenerate pairs),
+//    double input (Epick; Mpzf for cap points, see DyadicPairs); the pairs that cross are cut
+//    by predicates alone (named points where an edge crosses a triangle, or two coplanar edges
+//    cross, built as lazy Epeck constructions),
 //    and each crossed triangle is re-triangulated by a constrained Delaunay triangulation of its
 //    plane (projected along its dominant normal axis) with the intersection segments and points
 //    as constraints; where constraints cross, the point of three planes is made and named
@@ -255,8 +256,8 @@ void forEachEdge(const std::vector<std::pair<std::uint64_t, int>>& sides, Fn&& f
 }
 
 // ---------------------------------------------------------------------------------------------
-// Pairs of triangles that cross (exact predicates: Epick on double points, Epeck on the
-// cycle's exact points).
+// Pairs of triangles that cross (exact predicates: Epick on double points, Mpzf on the
+// cycle's exact cap points, see DyadicPairs).
 
 // How many vertices (by index) two triangles share, and which.
 int shared(const Tri& s, const Tri& t, int* which) {
