@@ -1180,7 +1180,12 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   // otherwise (kind 0: CGAL's exact intersection, a fallback that no measured case reaches).
   // The points are then named and numbered in pair order on this thread, so the numbering is
   // the same for any number of threads.
-  using General = decltype(CGAL::intersection(std::declval<EK::Triangle_3>(), std::declval<EK::Triangle_3>()));
+  // CGAL's exact intersection of the pair (i, j) (kind 0).
+  auto intersectGeneral = [&](int i, int j) {
+    return CGAL::intersection(EK::Triangle_3(ep[T[i][0]], ep[T[i][1]], ep[T[i][2]]),
+                              EK::Triangle_3(ep[T[j][0]], ep[T[j][1]], ep[T[j][2]]));
+  };
+  using General = decltype(intersectGeneral(0, 0));
   struct Crossing {
     Cut cut[2];
     int kind = 0;
@@ -1266,8 +1271,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
     else if (coplanar())
       x.kind = 4;
     else
-      x.general = std::make_unique<General>(CGAL::intersection(EK::Triangle_3(ep[T[i][0]], ep[T[i][1]], ep[T[i][2]]),
-                                                               EK::Triangle_3(ep[T[j][0]], ep[T[j][1]], ep[T[j][2]])));
+      x.general = std::make_unique<General>(intersectGeneral(i, j));
   });
   for (std::size_t k = 0; k < pairs.size(); ++k) {
     const auto [i, j] = pairs[k];
@@ -1301,12 +1305,8 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
       continue;
     }
     const std::size_t before_i = cons[i].size();
-    if (!cr.general)
-      addConstraints(CGAL::intersection(EK::Triangle_3(ep[T[i][0]], ep[T[i][1]], ep[T[i][2]]),
-                                        EK::Triangle_3(ep[T[j][0]], ep[T[j][1]], ep[T[j][2]])),
-                     cons[i], pointId);
-    else
-      addConstraints(*cr.general, cons[i], pointId);
+    // (a kind 3 pair whose ends name more than two points is intersected here, in general)
+    addConstraints(cr.general ? *cr.general : intersectGeneral(i, j), cons[i], pointId);
     cons[j].insert(cons[j].end(), cons[i].begin() + static_cast<std::ptrdiff_t>(before_i), cons[i].end());
   }
   cut_points = {};
