@@ -39,6 +39,7 @@
 #include <steady/sweep/envelope.hpp>
 #include <steady/sweep/inside.hpp>
 
+#include "box_orientation.hpp"
 #include "cycle.hpp"
 #include "face_tree.hpp"
 
@@ -607,11 +608,21 @@ class LineFacts {
 std::uint64_t lineOfPlane(int tri) { return static_cast<std::uint64_t>(tri); }
 std::uint64_t lineOfEdge(std::uint64_t edge_key) { return edge_key | (std::uint64_t{1} << 63); }
 
-// Orientation of three projected points: the interval filter, then the known lines, then exact
-// arithmetic. The answer is always the exact orientation.
+// The range of a coordinate of a lazy point's approximation, for detail::orientationOfBoxes.
+detail::Range range(const CGAL::Interval_nt<false>& x) { return {x.inf(), x.sup()}; }
+
+// Orientation of three projected points: their interval boxes in plain doubles
+// (orientationOfBoxes), the interval filter, then the known lines, then exact arithmetic. The answer is always the exact
+// orientation.
 struct KnownLinesOrientation {
   const LineFacts* facts = nullptr;
   CGAL::Orientation operator()(const EK::Point_2& p, const EK::Point_2& q, const EK::Point_2& r) const {
+    {
+      // (plain doubles first: the interval filter below changes the rounding mode twice a call)
+      const auto &a = p.approx(), &b = q.approx(), &c = r.approx();
+      const int o = detail::orientationOfBoxes(range(a.x()), range(a.y()), range(b.x()), range(b.y()), range(c.x()), range(c.y()));
+      if (o != 0) return o > 0 ? CGAL::LEFT_TURN : CGAL::RIGHT_TURN;
+    }
     {
       CGAL::Protect_FPU_rounding<true> guard;
       const auto &a = p.approx(), &b = q.approx(), &c = r.approx();
