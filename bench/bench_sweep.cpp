@@ -259,6 +259,7 @@ bool steadySweep(benchmark::State& state, const SweepBody& b, const Motion& moti
   state.counters["buried_kept"] = static_cast<double>(env.buried_patches_kept);
   state.counters["cracks_kept"] = static_cast<double>(env.crack_faces_kept);
   state.counters["rim_out"] = static_cast<double>(env.mouth_rim_faces_removed);
+  state.counters["dents"] = static_cast<double>(env.buried_dents_filled);
   state.counters["snapped"] = static_cast<double>(env.rounding_merged);
   state.counters["pinches"] = static_cast<double>(env.pinched_vertices_split);
   state.counters["pinches_touching"] = static_cast<double>(env.pinches_touching);

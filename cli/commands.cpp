@@ -837,6 +837,7 @@ SweepOutput sweepCommand(const SweepRequest& request) {
   report["pocket_mouths_filled"] = envelope.pocket_mouths_filled;
   report["mouth_flaps_removed"] = envelope.mouth_flaps_removed;
   report["mouth_rim_faces_removed"] = envelope.mouth_rim_faces_removed;
+  report["buried_dents_filled"] = envelope.buried_dents_filled;
   report["rounding_merged"] = envelope.rounding_merged;
   report["pinched_vertices_split"] = envelope.pinched_vertices_split;
   report["pinches_touching"] = envelope.pinches_touching;

@@ -2492,6 +2492,76 @@ constexpr double kBuriedProbe = 1.5;
 // Rounds of keeping the buried patches at mouths that cannot be closed, before none are left out.
 constexpr int kMouthRounds = 16;
 
+// Dents: a vertex with three faces whose tip lies behind the triangle of its three neighbours
+// (against the surface's outward side), where a probe kBuriedProbe tessellation tolerances
+// from the tip towards that triangle's outward side ends inside the swept volume: the tip pokes
+// into the swept volume, the apex of a thin fold of the tessellated sheets. Its three faces are
+// replaced by that triangle (the same boundary, so the surface stays closed), unless the
+// triangle is already a face or a neighbour was changed in the same pass. Returns how many.
+std::size_t fillBuriedDents(const std::vector<Vec>& V, std::vector<Tri>& T, double eps_t,
+                            const std::function<bool(const Vec&)>& inside_swept) {
+  if (!inside_swept) return 0;
+  // The faces of every vertex (offsets into `around`).
+  std::vector<int> first(V.size() + 1, 0), around(3 * T.size());
+  for (const Tri& t : T)
+    for (const int v : t) ++first[static_cast<std::size_t>(v) + 1];
+  for (std::size_t v = 0; v < V.size(); ++v) first[v + 1] += first[v];
+  {
+    std::vector<int> at(first.begin(), first.end() - 1);
+    for (std::size_t f = 0; f < T.size(); ++f)
+      for (const int v : T[f]) around[static_cast<std::size_t>(at[static_cast<std::size_t>(v)]++)] = static_cast<int>(f);
+  }
+  auto sameCorners = [](Tri x, Tri y) {
+    std::sort(x.begin(), x.end());
+    std::sort(y.begin(), y.end());
+    return x == y;
+  };
+  std::vector<char> touched(V.size(), 0), dropped(T.size(), 0);
+  std::vector<Tri> added;
+  for (std::size_t v = 0; v < V.size(); ++v) {
+    if (first[v + 1] - first[v] != 3 || touched[v]) continue;
+    const int* fs = &around[static_cast<std::size_t>(first[v])];
+    // The edges opposite v, as the faces run: they must close into one triangle n.
+    std::array<std::array<int, 2>, 3> edge{};
+    for (int k = 0; k < 3; ++k) {
+      const Tri& t = T[static_cast<std::size_t>(fs[k])];
+      int at = 0;
+      while (t[at] != static_cast<int>(v)) ++at;
+      edge[static_cast<std::size_t>(k)] = {{t[(at + 1) % 3], t[(at + 2) % 3]}};
+    }
+    Tri n{{edge[0][0], edge[0][1], -1}};
+    bool closes = false;
+    for (int k = 1; k < 3; ++k)
+      if (edge[static_cast<std::size_t>(k)][0] == n[1]) n[2] = edge[static_cast<std::size_t>(k)][1];
+    for (int k = 1; k < 3; ++k)
+      closes = closes || (n[2] >= 0 && edge[static_cast<std::size_t>(k)][0] == n[2] && edge[static_cast<std::size_t>(k)][1] == n[0]);
+    if (!closes || n[2] == n[0] || touched[n[0]] || touched[n[1]] || touched[n[2]]) continue;
+    // (the triangle must not be a face already: the surface would not stay a 2-manifold)
+    bool exists = false;
+    for (int k = first[n[0]]; k < first[n[0] + 1] && !exists; ++k)
+      exists = sameCorners(T[static_cast<std::size_t>(around[static_cast<std::size_t>(k)])], n);
+    if (exists) continue;
+    const Vec &a = V[n[0]], &b = V[n[1]], &c = V[n[2]];
+    const Vec normal = (b - a).cross(c - a);
+    const double len = normal.norm();
+    if (!(len > 0)) continue;
+    const Vec out = normal / len;
+    if (!(out.dot(V[v] - a) < 0)) continue;  // (a bump, not a dent)
+    if (!inside_swept(V[v] + kBuriedProbe * eps_t * out)) continue;
+    for (int k = 0; k < 3; ++k) dropped[static_cast<std::size_t>(fs[k])] = 1;
+    added.push_back(n);
+    touched[v] = touched[n[0]] = touched[n[1]] = touched[n[2]] = 1;
+  }
+  if (added.empty()) return 0;
+  std::vector<Tri> kept;
+  kept.reserve(T.size());
+  for (std::size_t f = 0; f < T.size(); ++f)
+    if (!dropped[f]) kept.push_back(T[f]);
+  kept.insert(kept.end(), added.begin(), added.end());
+  T.swap(kept);
+  return added.size();
+}
+
 // Patches of the selection (w = 0 on one side, w >= 1 on the other) that bound a spurious empty
 // pocket inside the swept volume. Where the sweep of the grazing curve folds over itself (near
 // the trajectories of the points where the velocity is tangent to that curve), two nearly
@@ -3463,6 +3533,7 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
   // 1e-17 carried through exact constructions) round to points that make slivers cross. Merge
   // vertices within kSnap times the scene size (union of neighbours in a hash grid), and drop
   // the triangles that collapse: their two other edges cancel, so the surface stays closed.
+  env.buried_dents_filled = fillBuriedDents(env.vertices, env.triangles, kTessellationShare * eps, inside_swept);
   env.rounding_merged = snapVertices(env.vertices, env.triangles);
   // Cavities before pinches: splitting an envelope that is not closed can cut open pieces of
   // its outer surface loose, whose volume sign means nothing.

@@ -515,6 +515,32 @@ TEST(Envelope, RimFacesAcrossAPocketMouthAreLeftOut) {
                          "UV sphere affine pocket mouth");
 }
 
+// The stress campaign's torus along a polySAM of three poses (case 1279, checked on every
+// vertex): a thin fold of the tessellated strips left a vertex of three faces poking 1.02 eps
+// into the swept volume, with no crack face or buried patch found or kept there (so the kept
+// counts did not flag it). Such a dent, whose probe towards the triangle of its neighbours ends
+// inside the swept volume, is replaced by that triangle (Envelope::buried_dents_filled): every
+// vertex within 50 eps of the former one is then on the true boundary.
+TEST(Envelope, DentsPokingIntoTheSweptVolumeAreFilled) {
+  const Mesh m = torus(0.7, 0.25, 12, 6);
+  Eigen::Matrix<double, 3, 4> p0, p1, p2;
+  p0 << -0.41274142775704381, 0.39856417680079215, 0.81901838244583014, -0.46538526612514486,  //
+      -0.34450729902904675, 0.76407468910403131, -0.54543981371576544, 0.053958530550793915,  //
+      -0.84318398628578572, -0.50728341826013268, -0.17805701005444088, -0.26945645040770716;
+  p1 << 0.15174287053697844, -0.98838245793541446, -0.0086149919759961474, 1.527312834571916,  //
+      -0.83871489582306047, -0.12414330318184463, -0.53023180195044306, -0.45496229121014509,  //
+      0.52300231812651754, 0.087684417775618972, -0.84780895142339729, 0.34345047123090167;
+  p2 << -0.48530628197562087, 0.30443401354104876, 0.8196326885100963, -0.47924484979710652,  //
+      -0.82121651455336575, -0.48049840612272932, -0.30777380970176549, 0.49822085200256594,  //
+      0.30013538428486114, -0.82246046294810127, 0.48319513448230594, 2.0948426058803031;
+  const Motion3 motion = Motion3::polySam(
+      std::vector<Affine3>{Affine3::fromMatrix(p0), Affine3::fromMatrix(p1), Affine3::fromMatrix(p2)});
+  const Envelope env = sweep(m, motion, 2e-3);
+  EXPECT_GT(env.buried_dents_filled, 0u);
+  expectCrackMouthClosed(env, m, motion, V(1.0328932009259293, -0.36085863479414737, 0.1422234766691331),
+                         "torus polySAM dent");
+}
+
 // The stress campaign's bracket on a screw span (case 970): a crack mouth whose loop shares
 // points with other loops. The faces folded over it were not taken for flaps while a flap's
 // corners had to lie on no other loop, every filling crossed them, and the crack was kept with
@@ -596,6 +622,7 @@ TEST(Envelope, SameEnvelopeOnAnyNumberOfThreads) {
     EXPECT_EQ(b.crack_faces_kept, a.crack_faces_kept) << threads << " threads";
     EXPECT_EQ(b.mouth_flaps_removed, a.mouth_flaps_removed) << threads << " threads";
     EXPECT_EQ(b.mouth_rim_faces_removed, a.mouth_rim_faces_removed) << threads << " threads";
+    EXPECT_EQ(b.buried_dents_filled, a.buried_dents_filled) << threads << " threads";
     expectSameEnvelope(a, b, std::to_string(threads) + " threads");
   }
   SweepOptions bad;
