@@ -31,8 +31,9 @@
 /// ε of it, and the envelope's vertices lie within ε of the true boundary except near pockets
 /// and cracks whose mouths could not be closed (kept and counted: Envelope::buried_patches_kept,
 /// crack_faces_kept; they may lie deeper than ε inside) and, rarely, at the apex of a thin fold
-/// that none of these tests finds: checked vertex by vertex on 600 random cases (README, "What
-/// does not hold yet"), one such apex of more than three faces remains, 1.01 ε deep.
+/// that none of these tests finds. Checked vertex by vertex on 600 random cases (README, "What
+/// does not hold yet"), two fail: one at kept cracks (1.50 ε deep), one at the apex of a fold
+/// of four faces (1.01 ε).
 
 #include <steady/core/motion.hpp>
 #include <steady/sweep/body.hpp>
