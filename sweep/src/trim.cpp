@@ -28,7 +28,9 @@
 //    add their orientation to the jump across the patch instead. A ray through an edge or a
 //    vertex of some face is re-cast from another point and direction.
 // 3. Selection. The envelope is the set of faces with w = 0 on one side and w >= 1 on the other,
-//    oriented towards w = 0; of overlapping copies one is kept. Coordinates are rounded to
+//    oriented towards w = 0; of overlapping copies one is kept. Buried pockets, crack walls and
+//    tips of three faces found inside the swept volume by exact probes are left out or filled
+//    (see buriedPatches, crackFaces, fillBuriedDents). Coordinates are rounded to
 //    double at the very end; then nearly equal vertices are merged, thin cavities removed, and
 //    the vertices where the surface touches itself are split and moved apart by far less than
 //    the tolerance, so that the output is a 2-manifold without self-intersections.
@@ -612,8 +614,8 @@ std::uint64_t lineOfEdge(std::uint64_t edge_key) { return edge_key | (std::uint6
 detail::Range range(const CGAL::Interval_nt<false>& x) { return {x.inf(), x.sup()}; }
 
 // Orientation of three projected points: their interval boxes in plain doubles
-// (orientationOfBoxes), the interval filter, then the known lines, then exact arithmetic. The answer is always the exact
-// orientation.
+// (orientationOfBoxes), the interval filter, then the known lines, then exact arithmetic. The
+// answer is always the exact orientation.
 struct KnownLinesOrientation {
   const LineFacts* facts = nullptr;
   CGAL::Orientation operator()(const EK::Point_2& p, const EK::Point_2& q, const EK::Point_2& r) const {
@@ -3529,11 +3531,13 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
   env.buried_patches_kept =
       static_cast<std::size_t>(std::count(buried_found.begin(), buried_found.end(), 1)) - env.buried_patches_removed;
   env.pocket_mouths_filled = mouths < 0 ? 0 : static_cast<std::size_t>(mouths);
+  // Tips of three faces that poke into the swept volume give way to the triangle of their
+  // neighbours (see fillBuriedDents).
+  env.buried_dents_filled = fillBuriedDents(env.vertices, env.triangles, kTessellationShare * eps, inside_swept);
   // Rounding: exact points that differ by a few units in the last place (e.g. input noise of
   // 1e-17 carried through exact constructions) round to points that make slivers cross. Merge
   // vertices within kSnap times the scene size (union of neighbours in a hash grid), and drop
   // the triangles that collapse: their two other edges cancel, so the surface stays closed.
-  env.buried_dents_filled = fillBuriedDents(env.vertices, env.triangles, kTessellationShare * eps, inside_swept);
   env.rounding_merged = snapVertices(env.vertices, env.triangles);
   // Cavities before pinches: splitting an envelope that is not closed can cut open pieces of
   // its outer surface loose, whose volume sign means nothing.
