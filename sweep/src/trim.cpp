@@ -2499,9 +2499,10 @@ constexpr int kMouthRounds = 16;
 // from the tip towards that triangle's outward side ends inside the swept volume: the tip pokes
 // into the swept volume, the apex of a thin fold of the tessellated sheets. Its three faces are
 // replaced by that triangle (the same boundary, so the surface stays closed), unless the
-// triangle is already a face or a neighbour was changed in the same pass. Returns how many.
+// triangle is already a face, crosses the surface (exact test) or a triangle added before it,
+// or a neighbour was changed in the same pass. Returns how many.
 std::size_t fillBuriedDents(const std::vector<Vec>& V, std::vector<Tri>& T, double eps_t,
-                            const std::function<bool(const Vec&)>& inside_swept) {
+                            const std::function<bool(const Vec&)>& inside_swept, int threads) {
   if (!inside_swept) return 0;
   // The faces of every vertex (offsets into `around`).
   std::vector<int> first(V.size() + 1, 0), around(3 * T.size());
@@ -2520,6 +2521,9 @@ std::size_t fillBuriedDents(const std::vector<Vec>& V, std::vector<Tri>& T, doub
   };
   std::vector<char> touched(V.size(), 0), dropped(T.size(), 0);
   std::vector<Tri> added;
+  detail::FaceTree tree;  // (of the surface, with P, built when the first tip needs it)
+  bool tree_built = false;
+  std::vector<IPoint> P;
   for (std::size_t v = 0; v < V.size(); ++v) {
     if (first[v + 1] - first[v] != 3 || touched[v]) continue;
     const int* fs = &around[static_cast<std::size_t>(first[v])];
@@ -2550,6 +2554,22 @@ std::size_t fillBuriedDents(const std::vector<Vec>& V, std::vector<Tri>& T, doub
     const Vec out = normal / len;
     if (!(out.dot(V[v] - a) < 0)) continue;  // (a bump, not a dent)
     if (!inside_swept(V[v] + kBuriedProbe * eps_t * out)) continue;
+    // (the triangle must not cross the surface, its three faces apart, nor a triangle added
+    // before it)
+    if (!tree_built) {
+      P.reserve(V.size());
+      for (const Vec& x : V) P.emplace_back(x.x(), x.y(), x.z());
+      tree.build(V, T, threads);
+      tree_built = true;
+    }
+    const Vec lo = a.cwiseMin(b).cwiseMin(c), hi = a.cwiseMax(b).cwiseMax(c);
+    bool cut = false;
+    tree.overlappingUntil(lo, hi, [&](int g) {
+      cut = g != fs[0] && g != fs[1] && g != fs[2] && crosses(P, n, T[static_cast<std::size_t>(g)]);
+      return !cut;
+    });
+    for (std::size_t k = 0; k < added.size() && !cut; ++k) cut = crosses(P, n, added[k]);
+    if (cut) continue;
     for (int k = 0; k < 3; ++k) dropped[static_cast<std::size_t>(fs[k])] = 1;
     added.push_back(n);
     touched[v] = touched[n[0]] = touched[n[1]] = touched[n[2]] = 1;
@@ -3533,7 +3553,8 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
   env.pocket_mouths_filled = mouths < 0 ? 0 : static_cast<std::size_t>(mouths);
   // Tips of three faces that poke into the swept volume give way to the triangle of their
   // neighbours (see fillBuriedDents).
-  env.buried_dents_filled = fillBuriedDents(env.vertices, env.triangles, kTessellationShare * eps, inside_swept);
+  env.buried_dents_filled =
+      fillBuriedDents(env.vertices, env.triangles, kTessellationShare * eps, inside_swept, options.threads);
   // Rounding: exact points that differ by a few units in the last place (e.g. input noise of
   // 1e-17 carried through exact constructions) round to points that make slivers cross. Merge
   // vertices within kSnap times the scene size (union of neighbours in a hash grid), and drop
