@@ -129,6 +129,21 @@ const std::array<Vec, 32>& rayDirections() {
 }  // namespace
 
 struct SweptVolume::Impl {
+  // The pose that takes world points back along the span to span time τ: A^-τ, and the norms
+  // of its linear part and translation.
+  struct BackPose {
+    Affine3 pose;
+    double lnorm = 0, tnorm = 0;
+  };
+  static BackPose backPose(const Span3& span, double tau) {
+    BackPose b{span.power(-tau), 0.0, 0.0};
+    b.lnorm = b.pose.linear().norm();
+    b.tnorm = b.pose.translation().norm();
+    return b;
+  }
+  // The time grid of SpanData::back: kGrid steps per span.
+  static constexpr int kGrid = 1024;
+
   struct SpanData {
     SpanRoots roots;
     double t0 = 0, t1 = 1;  // times reported for span time 0 and 1
@@ -142,6 +157,9 @@ struct SweptVolume::Impl {
     double w_max = 0;      // largest |W|
     std::vector<Vec> m;    // face planes m . z = h in the frame of the span start
     std::vector<double> h;
+    // A^-τ at τ = k / kGrid, k = 0 .. kGrid, with the norms `at` needs: every time visit()
+    // evaluates is on this grid (intervals halve from [0, 1] down to 2^-9 of the span).
+    std::vector<BackPose> back;
   };
 
   struct Hit {
@@ -174,7 +192,9 @@ struct SweptVolume::Impl {
   }
 
   void addSpan(const Span3& span, double t0, double t1, const RootOptions& ro) {
-    SpanData sd{SpanRoots(span, ro), t0, t1, span.log().M, span.log().u, 0.0, span.start().inverse(), 0.0, 0.0, {}, 0.0, {}, {}};
+    SpanData sd{SpanRoots(span, ro), t0, t1, span.log().M, span.log().u, 0.0, span.start().inverse(), 0.0, 0.0, {}, 0.0, {}, {}, {}};
+    sd.back.reserve(kGrid + 1);
+    for (int k = 0; k <= kGrid; ++k) sd.back.push_back(backPose(span, static_cast<double>(k) / kGrid));
     sd.mu = sd.roots.logNorm();
     sd.binv_norm = spectralBound(sd.Binv.linear());
     sd.b_norm = spectralBound(span.start().linear());
@@ -347,21 +367,24 @@ struct SweptVolume::Impl {
     Vec z;
     double round = 0;
   };
-  TrajectoryPoint at(const SpanData& sd, const Vec& x, double tau) const {
-    const Affine3 back = sd.roots.span().power(-tau);
-    TrajectoryPoint t{back.applyPoint(x), 0.0};
+  // At span time k / kGrid (0 <= k <= kGrid).
+  TrajectoryPoint at(const SpanData& sd, const Vec& x, int k) const {
+    const BackPose& back = sd.back[static_cast<std::size_t>(k)];
+    TrajectoryPoint t{back.pose.applyPoint(x), 0.0};
     if (!t.z.allFinite()) throw Error(ErrorCode::NonFinite, "SweptVolume: the point's trajectory overflows");
-    t.round = 64 * kUlp * (t.z.norm() + back.linear().norm() * x.norm() + back.translation().norm());
+    t.round = 64 * kUlp * (t.z.norm() + back.lnorm * x.norm() + back.tnorm);
     return t;
   }
 
   // The earliest hit over span times [a, b], whose ends the trajectory passes at za and zb,
   // halving while the faces in reach of its chord are many. Returns true when a hit was found
   // (hits in [a, b] are earlier than in (b, 1]).
-  bool visit(const SpanData& sd, const Vec& x, double a, double b, const TrajectoryPoint& za,
+  bool visit(const SpanData& sd, const Vec& x, int ka, int kb, const TrajectoryPoint& za,
              const TrajectoryPoint& zb, Hit& hit, std::vector<int>& cand, std::vector<ContactRoot>& roots) const {
-    const double c = 0.5 * (a + b), r = 0.5 * (b - a);
-    const TrajectoryPoint zc = at(sd, x, c);
+    const int kc = (ka + kb) / 2;  // (ka and kb differ by an even number: see can_halve)
+    const double a = static_cast<double>(ka) / kGrid, b = static_cast<double>(kb) / kGrid;
+    const double c = static_cast<double>(kc) / kGrid, r = 0.5 * (b - a);
+    const TrajectoryPoint zc = at(sd, x, kc);
     const double speed = (sd.M * zc.z + sd.u).norm();
     // Over [a, b] the trajectory stays within `chord` of the chord [z(a), z(b)]: linear
     // interpolation over a step h = 2r errs by at most h²/8 max|z''|, and z'' = M v(z) with
@@ -387,8 +410,8 @@ struct SweptVolume::Impl {
     });
     if (cand.empty()) return false;
     if (many) {
-      if (visit(sd, x, a, c, za, zc, hit, cand, roots)) return true;
-      return visit(sd, x, c, b, zc, zb, hit, cand, roots);
+      if (visit(sd, x, ka, kc, za, zc, hit, cand, roots)) return true;
+      return visit(sd, x, kc, kb, zc, zb, hit, cand, roots);
     }
     // A face farther than `reach` from the chord cannot hit in [a, b] (its box only met the
     // chord's box): its distance, computed in doubles, is trusted to 1e-9 of the magnitudes
@@ -427,7 +450,7 @@ struct SweptVolume::Impl {
     for (std::size_t i = 0; i < spans.size(); ++i) {
       const SpanData& sd = spans[i];
       Hit hit;
-      if (visit(sd, x, 0.0, 1.0, at(sd, x, 0.0), at(sd, x, 1.0), hit, cand, roots)) {
+      if (visit(sd, x, 0, kGrid, at(sd, x, 0), at(sd, x, kGrid), hit, cand, roots)) {
         res.inside = true;
         res.time = sd.t0 + hit.tau * (sd.t1 - sd.t0);
         res.span = i;
