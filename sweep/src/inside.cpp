@@ -158,7 +158,8 @@ struct SweptVolume::Impl {
     std::vector<Vec> m;    // face planes m . z = h in the frame of the span start
     std::vector<double> h;
     // A^-τ at τ = k / kGrid, k = 0 .. kGrid, with the norms `at` needs: every time visit()
-    // evaluates is on this grid (intervals halve from [0, 1] down to 2^-9 of the span).
+    // evaluates is on this grid (intervals halve from [0, 1] while their half width exceeds
+    // 2^-10 of the span, so their ends and middles are multiples of 2^-10).
     std::vector<BackPose> back;
   };
 
@@ -383,7 +384,7 @@ struct SweptVolume::Impl {
              const TrajectoryPoint& zb, Hit& hit, std::vector<int>& cand, std::vector<ContactRoot>& roots) const {
     const int kc = (ka + kb) / 2;  // (ka and kb differ by an even number: see can_halve)
     const double a = static_cast<double>(ka) / kGrid, b = static_cast<double>(kb) / kGrid;
-    const double c = static_cast<double>(kc) / kGrid, r = 0.5 * (b - a);
+    const double r = 0.5 * (b - a);
     const TrajectoryPoint zc = at(sd, x, kc);
     const double speed = (sd.M * zc.z + sd.u).norm();
     // Over [a, b] the trajectory stays within `chord` of the chord [z(a), z(b)]: linear

@@ -2201,23 +2201,33 @@ std::size_t splitPinchedVertices(std::vector<Vec>& V, std::vector<Tri>& T) {
   return copies;
 }
 
+// The corners (face, k: T[face][k] is the vertex) of every vertex of nv, in face order: vertex
+// v's are corner[first[v], first[v + 1]).
+struct VertexCorners {
+  std::vector<int> first;
+  std::vector<std::pair<int, int>> corner;
+};
+VertexCorners vertexCorners(std::size_t nv, const std::vector<Tri>& T) {
+  VertexCorners c;
+  c.first.assign(nv + 1, 0);
+  for (const Tri& t : T)
+    for (int w : t) ++c.first[static_cast<std::size_t>(w) + 1];
+  std::partial_sum(c.first.begin(), c.first.end(), c.first.begin());
+  c.corner.resize(3 * T.size());
+  std::vector<int> fill(c.first.begin(), c.first.end() - 1);
+  for (std::size_t f = 0; f < T.size(); ++f)
+    for (int k = 0; k < 3; ++k) c.corner[static_cast<std::size_t>(fill[T[f][k]]++)] = {static_cast<int>(f), k};
+  return c;
+}
+
 std::size_t splitFans(std::vector<Vec>& V, std::vector<Tri>& T, const std::set<std::uint64_t>& empty_wedges,
                       std::vector<int>& origin) {
   const std::vector<std::array<int, 3>> partner = pairAcrossEdges(V, T, empty_wedges);
   origin.resize(V.size());
   std::iota(origin.begin(), origin.end(), 0);
-  // The corners (face, k) of every vertex, in face order: vertex v's are
-  // corner[first[v], first[v + 1]).
-  std::vector<int> first(V.size() + 1, 0);
-  for (const Tri& t : T)
-    for (int w : t) ++first[static_cast<std::size_t>(w) + 1];
-  std::partial_sum(first.begin(), first.end(), first.begin());
-  std::vector<std::pair<int, int>> corner(3 * T.size());
-  {
-    std::vector<int> fill(first.begin(), first.end() - 1);
-    for (std::size_t f = 0; f < T.size(); ++f)
-      for (int k = 0; k < 3; ++k) corner[static_cast<std::size_t>(fill[T[f][k]]++)] = {static_cast<int>(f), k};
-  }
+  const VertexCorners corners = vertexCorners(V.size(), T);
+  const std::vector<int>& first = corners.first;
+  const std::vector<std::pair<int, int>>& corner = corners.corner;
   std::size_t copies = 0;
   const std::size_t nv = V.size();
   // Per vertex: (next vertex b, corner index) and (face, corner index), sorted; where several
@@ -2504,16 +2514,8 @@ constexpr int kMouthRounds = 16;
 std::size_t fillBuriedDents(const std::vector<Vec>& V, std::vector<Tri>& T, double eps_t,
                             const std::function<bool(const Vec&)>& inside_swept, int threads) {
   if (!inside_swept) return 0;
-  // The faces of every vertex (offsets into `around`).
-  std::vector<int> first(V.size() + 1, 0), around(3 * T.size());
-  for (const Tri& t : T)
-    for (const int v : t) ++first[static_cast<std::size_t>(v) + 1];
-  for (std::size_t v = 0; v < V.size(); ++v) first[v + 1] += first[v];
-  {
-    std::vector<int> at(first.begin(), first.end() - 1);
-    for (std::size_t f = 0; f < T.size(); ++f)
-      for (const int v : T[f]) around[static_cast<std::size_t>(at[static_cast<std::size_t>(v)]++)] = static_cast<int>(f);
-  }
+  const VertexCorners corners = vertexCorners(V.size(), T);
+  const std::vector<int>& first = corners.first;
   auto sameCorners = [](Tri x, Tri y) {
     std::sort(x.begin(), x.end());
     std::sort(y.begin(), y.end());
@@ -2526,13 +2528,13 @@ std::size_t fillBuriedDents(const std::vector<Vec>& V, std::vector<Tri>& T, doub
   std::vector<IPoint> P;
   for (std::size_t v = 0; v < V.size(); ++v) {
     if (first[v + 1] - first[v] != 3 || touched[v]) continue;
-    const int* fs = &around[static_cast<std::size_t>(first[v])];
+    const std::pair<int, int>* cs = &corners.corner[static_cast<std::size_t>(first[v])];
+    const int fs[3] = {cs[0].first, cs[1].first, cs[2].first};
     // The edges opposite v, as the faces run: they must close into one triangle n.
     std::array<std::array<int, 2>, 3> edge{};
     for (int k = 0; k < 3; ++k) {
-      const Tri& t = T[static_cast<std::size_t>(fs[k])];
-      int at = 0;
-      while (t[at] != static_cast<int>(v)) ++at;
+      const Tri& t = T[static_cast<std::size_t>(cs[k].first)];
+      const int at = cs[k].second;
       edge[static_cast<std::size_t>(k)] = {{t[(at + 1) % 3], t[(at + 2) % 3]}};
     }
     Tri n{{edge[0][0], edge[0][1], -1}};
@@ -2545,7 +2547,7 @@ std::size_t fillBuriedDents(const std::vector<Vec>& V, std::vector<Tri>& T, doub
     // (the triangle must not be a face already: the surface would not stay a 2-manifold)
     bool exists = false;
     for (int k = first[n[0]]; k < first[n[0] + 1] && !exists; ++k)
-      exists = sameCorners(T[static_cast<std::size_t>(around[static_cast<std::size_t>(k)])], n);
+      exists = sameCorners(T[static_cast<std::size_t>(corners.corner[static_cast<std::size_t>(k)].first)], n);
     if (exists) continue;
     const Vec &a = V[n[0]], &b = V[n[1]], &c = V[n[2]];
     const Vec normal = (b - a).cross(c - a);
@@ -2568,7 +2570,11 @@ std::size_t fillBuriedDents(const std::vector<Vec>& V, std::vector<Tri>& T, doub
       cut = g != fs[0] && g != fs[1] && g != fs[2] && crosses(P, n, T[static_cast<std::size_t>(g)]);
       return !cut;
     });
-    for (std::size_t k = 0; k < added.size() && !cut; ++k) cut = crosses(P, n, added[k]);
+    for (std::size_t k = 0; k < added.size() && !cut; ++k) {
+      const Tri& m = added[k];
+      const Vec mlo = V[m[0]].cwiseMin(V[m[1]]).cwiseMin(V[m[2]]), mhi = V[m[0]].cwiseMax(V[m[1]]).cwiseMax(V[m[2]]);
+      cut = (mlo.array() <= hi.array()).all() && (lo.array() <= mhi.array()).all() && crosses(P, n, m);
+    }
     if (cut) continue;
     for (int k = 0; k < 3; ++k) dropped[static_cast<std::size_t>(fs[k])] = 1;
     added.push_back(n);
