@@ -2867,7 +2867,8 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
 // (the new points appended to V), or -1 (V left alone, T without its flaps) when some edge
 // path does not close, some loop cannot be filled, a filling face would leave an edge with
 // other than two faces, or a filling face crosses the surface or another filling face;
-// `trouble` then holds the vertices of every such path and loop.
+// `trouble` then holds the edges of every such path and loop (pairs of points; a path of one
+// point gives the pair (v, v)).
 // Loops of up to this many points are filled by a search over all triangulations of the
 // polygon (cubic in its size: about 3e5 candidate triangles at this size): CGAL's first, then,
 // for the loops whose filling is bad, fillMouths' own (refillLoop), which leaves out the
@@ -2955,7 +2956,7 @@ constexpr double kRimReach = 1.5;
 // every bad loop, so that the rounds end).
 constexpr int kRimRounds = 2;
 
-long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vector<int>& trouble,
+long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vector<std::array<int, 2>>& trouble,
                 std::vector<Tri>* rim, std::size_t& flaps, int threads) {
   // Per undirected edge: how many faces use it and the net direction (a < b positive), by a
   // sort of every face's edges (faster than hashing here: this runs once per selection round).
@@ -2986,7 +2987,11 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
   };
   // Every failing path or loop is reported (in `trouble`), so that one round of the caller
   // keeps the patches at all of them.
-  auto fail = [&](const std::vector<int>& path) { trouble.insert(trouble.end(), path.begin(), path.end()); };
+  auto fail = [&](const std::vector<int>& path, bool loop) {
+    if (path.size() == 1) trouble.push_back({{path[0], path[0]}});
+    for (std::size_t i = 0; i + 1 < path.size(); ++i) trouble.push_back({{path[i], path[i + 1]}});
+    if (loop && path.size() > 2) trouble.push_back({{path.back(), path.front()}});
+  };
   std::vector<EdgeUse> surface_use;
   std::vector<std::vector<int>> loops;
   // The surface's loops, from its edge uses: unmatched directed edges a -> b (as the faces run),
@@ -3031,7 +3036,7 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
         place[static_cast<std::size_t>(start.first)] = 0;
         for (;;) {
           if (!left(path.back())) {  // a dead end: these edges form no loop
-            fail(path);
+            fail(path, false);
             for (const int v : path) place[static_cast<std::size_t>(v)] = -1;
             break;
           }
@@ -3377,7 +3382,7 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
   }
   // Every loop that still cannot be filled is reported at once (or its rim).
   for (std::size_t l = 0; l < loops.size(); ++l)
-    if (bad[l] && !has_rim[l]) fail(loops[l]);
+    if (bad[l] && !has_rim[l]) fail(loops[l], true);
   if (!trouble.empty() || (rim && !rim->empty())) {
     V.resize(old_points);
     return -1;
@@ -3486,7 +3491,7 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
     if (std::find(buried.begin(), buried.end(), 1) == buried.end() && std::find(crack.begin(), crack.end(), 1) == crack.end() &&
         std::find(rim_out.begin(), rim_out.end(), 1) == rim_out.end())
       break;
-    std::vector<int> trouble;
+    std::vector<std::array<int, 2>> trouble;
     std::vector<Tri> rim;
     mouths = fillMouths(env.vertices, env.triangles, kTessellationShare * eps, trouble, round < kRimRounds ? &rim : nullptr,
                         flaps, options.threads);
@@ -3520,9 +3525,26 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
         if (rim_points.count(key)) rim_out[f] = 1;
       }
     }
-    // Keep the buried patches and the crack regions with a vertex on the troubled path.
+    // Keep the buried patches and the crack regions with an edge on a troubled path: leaving
+    // those out opened it. (Those with only a point on it opened other loops through that
+    // point, which closed: a polySAM of CGAL's sphere, campaign case 2959, kept a pocket 14 ε
+    // deep that way.)
     std::vector<char> at_mouth(A.points.size(), 0);
-    for (int v : trouble) at_mouth[point_of[v]] = 1;
+    std::vector<std::uint64_t> trouble_edges;
+    for (const auto& [a, b] : trouble) {
+      at_mouth[point_of[a]] = at_mouth[point_of[b]] = 1;
+      trouble_edges.push_back(edgeKey(point_of[a], point_of[b]));
+    }
+    std::sort(trouble_edges.begin(), trouble_edges.end());
+    auto onTroubledEdge = [&](const Tri& t) {
+      for (int k = 0; k < 3; ++k) {
+        const std::uint64_t key = edgeKey(t[k], t[(k + 1) % 3]);
+        if (std::binary_search(trouble_edges.begin(), trouble_edges.end(), key)) return true;
+      }
+      return std::binary_search(trouble_edges.begin(), trouble_edges.end(), edgeKey(t[0], t[0])) ||
+             std::binary_search(trouble_edges.begin(), trouble_edges.end(), edgeKey(t[1], t[1])) ||
+             std::binary_search(trouble_edges.begin(), trouble_edges.end(), edgeKey(t[2], t[2]));
+    };
     // From the fourth round on, the mark spreads over round - 2 rings of the faces left out:
     // mouths that keep failing next to the ones kept before (a few per round, each round
     // redoing every mouth) are then kept together sooner.
@@ -3537,7 +3559,8 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
     }
     std::set<int> kept_regions;
     for (const int f : selectable) {
-      if (!(at_mouth[A.faces[f][0]] || at_mouth[A.faces[f][1]] || at_mouth[A.faces[f][2]])) continue;
+      const Tri& t = A.faces[f];
+      if (round > 2 ? !(at_mouth[t[0]] || at_mouth[t[1]] || at_mouth[t[2]]) : !onTroubledEdge(t)) continue;
       buried[L.patch[f]] = 0;
       rim_out[f] = 0;  // (a rim left out at a mouth that still fails comes back)
       if (crack[f]) kept_regions.insert(crack_region[f]);

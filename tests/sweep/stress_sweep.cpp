@@ -159,7 +159,7 @@ std::optional<Mesh> makeMesh(const std::string& name, std::uint64_t seed) {
   if (name == "bracket") return readAsIs(STEADY_DATA_DIR "/meshes/bracket.off");
   if (name == "cgalsphere") {
 #ifdef STEADY_CGAL_MESHES
-    // As the benchmarks take it: 1,280 faces, centred, scaled to a unit box diagonal.
+    // As the benchmarks take it: 320 faces, centred, scaled to a unit box diagonal.
     steady::io::TriangleMesh t = steady::io::readMesh(steady_bench::meshPath("sphere"));
     steady_bench::toUnitDiagonal(t);
     return Mesh{std::move(t.vertices), std::move(t.faces)};
