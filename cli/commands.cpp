@@ -828,6 +828,7 @@ SweepOutput sweepCommand(const SweepRequest& request) {
   report["patches"] = envelope.patches;
   report["ray_retries"] = envelope.ray_retries;
   report["patches_by_ray"] = envelope.patches_by_ray;
+  report["label_mismatches"] = envelope.label_mismatches;
   report["thin_cavities_removed"] = envelope.thin_cavities_removed;
   report["thin_solids_removed"] = envelope.thin_solids_removed;
   report["buried_patches_removed"] = envelope.buried_patches_removed;

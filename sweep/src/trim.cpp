@@ -1533,6 +1533,7 @@ struct Labels {
   std::vector<int> group;      // per patch: smallest patch among its overlapping copies
   std::size_t rays = 0;        // patches labelled by a ray of their own
   std::size_t retries = 0;
+  std::size_t mismatches = 0;  // components whose steps or check rays contradicted each other
 };
 
 // The side of patch p's faces that is empty when p is selected (winding number 0 on that side,
@@ -1772,7 +1773,7 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
     }
     return r;
   };
-  std::vector<char> bad(np, 0);
+  std::vector<char> bad(np, 0), contradicted(np, 0);
   {
     const std::vector<Step> steps = crossEdges(A, L.patch, sides, options.threads);
     sides = {};
@@ -1783,16 +1784,18 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
       }
       const int rp = find(st.p), rq = find(st.q);
       if (rp == rq) {
-        if (off[st.p] - off[st.q] != st.c) bad[rp] = 1;
+        if (off[st.p] - off[st.q] != st.c) bad[rp] = contradicted[rp] = 1;
         continue;
       }
       root[rq] = rp;
       off[rq] = off[st.p] - off[st.q] - st.c;
     }
   }
-  std::vector<char> bad_root(np, 0);
-  for (std::size_t p = 0; p < np; ++p)
+  std::vector<char> bad_root(np, 0), mismatch_root(np, 0);
+  for (std::size_t p = 0; p < np; ++p) {
     if (bad[p]) bad_root[find(static_cast<int>(p))] = 1;
+    if (contradicted[p]) mismatch_root[find(static_cast<int>(p))] = 1;
+  }
 
   // The faces' boxes (approximate coordinates, widened by `pad` below so that they hold the
   // exact triangles), for the rays: a hierarchy, built only for a cast of more than kRayScan
@@ -1971,8 +1974,10 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
     const int r = find(static_cast<int>(p)), l = leader[r];
     if (bad_root[r]) continue;
     const int x_root = L.w_front[l] - off[l];
-    if (rayed[p] && std::array<int, 3>{L.w_front[p], L.jump[p], L.group[p]} != propagated(p, x_root)) bad_root[r] = 1;
+    if (rayed[p] && std::array<int, 3>{L.w_front[p], L.jump[p], L.group[p]} != propagated(p, x_root))
+      bad_root[r] = mismatch_root[r] = 1;
   }
+  L.mismatches = static_cast<std::size_t>(std::count(mismatch_root.begin(), mismatch_root.end(), 1));
   todo.clear();
   for (std::size_t p = 0; p < np; ++p) {
     const int r = find(static_cast<int>(p));
@@ -3417,6 +3422,7 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
   env.patches = L.w_front.size();
   env.ray_retries = L.retries;
   env.patches_by_ray = L.rays;
+  env.label_mismatches = L.mismatches;
   env.timings.label = seconds(t0);
 
   // Faces with w = 0 on one side and w >= 1 on the other, towards w = 0; one of each overlap.

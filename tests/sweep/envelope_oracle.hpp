@@ -91,8 +91,10 @@ inline void checkEnvelope(const Mesh& mesh, const steady::Motion3& motion, const
   }
   // Winding numbers cross the edges where patches meet; rays label one patch per connected
   // group and a check sample of 64, whose rays must agree (a disagreement rays the whole group).
-  EXPECT_LE(env.patches_by_ray, std::min<std::size_t>(env.patches, 64 + co.expected_shells + 2))
-      << "labels propagated across edges disagreed with their check rays";
+  // (The number of rays is no measure of that: a polySAM of the UV sphere, campaign case 2754,
+  // has 6 groups of patches, hence 69 rays, and no disagreement.)
+  EXPECT_EQ(env.label_mismatches, 0u) << "labels propagated across edges disagreed with their check rays";
+  EXPECT_LE(env.patches_by_ray, env.patches);
   // The reported measures against our own.
   const double vol = meshVolume(ev, ef), area = meshArea(ev, ef);
   EXPECT_NEAR(env.volume, vol, 1e-9 * std::abs(vol));

@@ -132,6 +132,11 @@ struct Envelope {
   /// Patches labelled by a ray of their own: one per connected group of patches, plus a check
   /// sample (the others take their winding numbers across the edges where patches meet).
   std::size_t patches_by_ray = 0;
+  /// Connected groups of patches whose winding numbers, carried across edges, contradicted
+  /// each other around a cycle or disagreed with a check ray; each such group is labelled by a
+  /// ray per patch instead (counted in patches_by_ray). 0 unless the exact arrangement is not
+  /// what it should be, which has not been seen: a non-zero count is worth a bug report.
+  std::size_t label_mismatches = 0;
   /// Cavities (inner shells) thinner than ε on average (2 |volume| / area <= ε) that were
   /// removed: pockets pinched between a cap and a strip leaving it tangentially, artefacts of
   /// the tessellation within the tolerance.
