@@ -705,6 +705,31 @@ TEST(Envelope, SameEnvelopeRunToRunOnTheCgalSphereScrew) {
 #endif
 }
 
+// The stress campaign's random convex body on a screw (case 3320, tolerance 1e-3): crack walls
+// joined across edges into regions that run along the strips for hundreds of eps; a mouth that no
+// filling closes at one end of such a region kept the whole region (846 crack faces), and 143
+// envelope vertices, up to 1.66 eps inside the swept volume, lay on walls far from that mouth.
+// Regions are now kept by pieces (the faces in one cell of a grid of kCrackCell tessellation
+// tolerances): around the vertex that was 1.10 eps deep, every envelope vertex is now within
+// T = 1.01 eps of the true boundary.
+TEST(Envelope, CrackRegionsAreKeptByPiecesNearTheirFailedMouths) {
+  std::mt19937_64 rng(73003761ull ^ 0x9E3779B97F4A7C15ull);  // (as the campaign draws it)
+  const Mesh m = randomConvex(rng, 10 + static_cast<int>(rng() % 7));
+  ASSERT_EQ(m.f.size(), 20u);
+  Eigen::Matrix<double, 3, 4> b, c;
+  b << -0.75059439347520807, 0.19179811256557838, 0.63231443167135326, -0.42597805186707782,  //
+      0.30164580724944406, 0.95087290108128497, 0.069645767696914648, -0.00017816203345810688,  //
+      -0.58789273124645447, 0.24301071993955964, -0.77157496495288203, 0.027468300350615538;
+  c << -0.048185711107250617, 0.42095392932271558, -0.90580126221641732, -0.06673996817172273,  //
+      0.31298896236125728, 0.86754593862520901, 0.38652548921763008, -0.66021975353732931,      //
+      0.94853362970698729, -0.26488079160760414, -0.17355725151147378, -0.46420688662665233;
+  const Motion3 motion = single(Affine3::fromMatrix(b), Affine3::fromMatrix(c));
+  const Envelope env = sweep(m, motion, 1e-3);
+  EXPECT_GT(env.crack_faces_removed, 0u);
+  expectCrackMouthClosed(env, m, motion, V(-0.077330055573830131, -0.48945229024906567, 0.67040394660703762),
+                         "convex screw crack walls");
+}
+
 // The stress campaign's CGAL sphere on a polySAM of three spans (case 2959, tolerance 2e-3): a
 // buried pocket whose mouth closes, next to a crack mouth (a slit of 15 points) that no filling
 // closes. The pocket touched that slit at a point only, yet it was kept with the crack, and its
