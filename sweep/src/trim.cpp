@@ -2507,15 +2507,16 @@ constexpr double kTessellationShare = 0.5;
 // side of a patch.
 constexpr double kBuriedProbe = 1.5;
 // Crack regions are kept by pieces: the faces of a region whose centroids lie in one cube of a
-// grid of this many tessellation tolerances (16 eps). A region runs along the strips, often for
+// grid of this many tessellation tolerances (4 eps). A region runs along the strips, often for
 // hundreds of eps; kept whole at a mouth that failed at one end, its walls stayed everywhere
 // (campaign case 3320, a convex body on a screw: 846 crack faces kept, vertices 1.66 eps deep far
-// from that mouth; 71 kept by pieces, none off there, test
-// CrackRegionsAreKeptByPiecesNearTheirFailedMouths). Where a kept piece meets a piece left out,
-// the crack's walls end on a new mouth across the layer, filled like the others (or kept in a
-// later round). Screws at 1e-3, crack faces kept: elephant 1,395 -> 1,328, knot1 2,550 -> 1,521,
-// armadillo 1,976 -> 783, bunny00 438 -> 287.
-constexpr double kCrackCell = 32.0;
+// from that mouth; test CrackRegionsAreKeptByPiecesNearTheirFailedMouths). Where a kept piece
+// meets a piece left out, the crack's walls end on a new mouth across the layer, filled like the
+// others (or kept in a later round). Screws at 1e-3, crack faces kept whole / in cells of 32, 16
+// and 8 tolerances: elephant 1,395 / 1,328 / 1,259 / 1,133, knot1 2,550 / 1,521 / 1,130 / 887,
+// armadillo 1,976 / 783 / 509 / 320, bunny00 438 / 287 / 245 / 273 (and 12 more buried patches);
+// the same time, and the campaign passes at each.
+constexpr double kCrackCell = 8.0;
 // Rounds of keeping the buried patches at mouths that cannot be closed, before none are left out.
 constexpr int kMouthRounds = 16;
 
