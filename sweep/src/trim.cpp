@@ -2506,16 +2506,20 @@ constexpr double kTessellationShare = 0.5;
 // Distance, in units of the tessellation tolerance, at which buriedPatches probes the empty
 // side of a patch.
 constexpr double kBuriedProbe = 1.5;
-// Crack regions are kept by pieces: the faces of a region whose centroids lie in one cube of a
-// grid of this many tessellation tolerances (4 eps). A region runs along the strips, often for
-// hundreds of eps; kept whole at a mouth that failed at one end, its walls stayed everywhere
-// (campaign case 3320, a convex body on a screw: 846 crack faces kept, vertices 1.66 eps deep far
-// from that mouth; test CrackRegionsAreKeptByPiecesNearTheirFailedMouths). Where a kept piece
-// meets a piece left out, the crack's walls end on a new mouth across the layer, filled like the
-// others (or kept in a later round). Screws at 1e-3, crack faces kept whole / in cells of 32, 16
-// and 8 tolerances: elephant 1,395 / 1,328 / 1,259 / 1,133, knot1 2,550 / 1,521 / 1,130 / 887,
-// armadillo 1,976 / 783 / 509 / 320, bunny00 438 / 287 / 245 / 273 (and 12 more buried patches);
-// the same time, and the campaign passes at each.
+// Crack regions and buried patches are kept by pieces: the faces of a region (or patch) whose
+// centroids lie in one cube of a grid of this many tessellation tolerances (4 eps). A region
+// runs along the strips, often for hundreds of eps; kept whole at a mouth that failed at one
+// end, its walls stayed everywhere (campaign case 3320, a convex body on a screw: 846 crack
+// faces kept, vertices 1.66 eps deep far from that mouth; test
+// CrackRegionsAreKeptByPiecesNearTheirFailedMouths). A buried patch can be long too (case 482:
+// 18 faces over 56 eps, its far end 1.02 eps deep; test
+// BuriedPatchesAreKeptByPiecesNearTheirFailedMouths). Where a kept piece meets a piece left
+// out, the walls end on a new mouth, filled like the others (or kept in a later round). Screws
+// at 1e-3, crack faces kept whole / in cells of 32, 16 and 8 tolerances: elephant 1,395 / 1,328
+// / 1,259 / 1,133, knot1 2,550 / 1,521 / 1,130 / 887, armadillo 1,976 / 783 / 509 / 320,
+// bunny00 438 / 287 / 245 / 273 (and 12 more buried patches); the same time, and the campaign
+// passes at each. Buried patches with a piece kept, whole / by pieces of 8 tolerances: elephant
+// 129 / 129, knot1 33 / 33, armadillo 599 / 356, bunny00 475 / 471.
 constexpr double kCrackCell = 8.0;
 // Rounds of keeping the buried patches at mouths that cannot be closed, before none are left out.
 constexpr int kMouthRounds = 16;
@@ -3442,8 +3446,7 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
   std::vector<char> buried = buriedPatches(A, L, kTessellationShare * eps, inside_swept, options.threads);
   std::vector<char> crack = crackFaces(A, L, buried, kTessellationShare * eps, inside_swept, options.threads);
   // Crack walls joined across shared edges form regions, cut into pieces by a grid (see
-  // kCrackCell); a piece at a mouth that cannot be closed is kept as a whole (as a buried patch
-  // is).
+  // kCrackCell); a piece at a mouth that cannot be closed is kept as a whole.
   std::vector<int> crack_region(A.faces.size(), -1);
   {
     std::vector<int> parent(A.faces.size());
@@ -3467,6 +3470,25 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
       crack_region[f] = ids.emplace(key, static_cast<int>(ids.size())).first->second;
     }
   }
+  // The faces of buried patches, cut into pieces by the same grid: a pocket's walls run along
+  // the strips as a crack's do, and a piece at a mouth that cannot be closed is kept, not the
+  // whole patch (campaign case 482: a patch of 18 faces spanning 56 eps kept whole for a mouth
+  // 14 eps from its tip, 1.02 eps deep).
+  std::vector<char> pocket(A.faces.size(), 0);
+  std::vector<int> pocket_piece(A.faces.size(), -1);
+  {
+    const double cell = kCrackCell * kTessellationShare * eps;
+    std::map<std::array<long long, 4>, int> ids;
+    for (std::size_t f = 0; f < A.faces.size(); ++f) {
+      if (!buried[L.patch[f]]) continue;
+      const Tri& t = A.faces[f];
+      const Vec m = (A.approx[t[0]] + A.approx[t[1]] + A.approx[t[2]]) / (3.0 * cell);
+      const std::array<long long, 4> key{{L.patch[f], std::llround(std::floor(m.x())), std::llround(std::floor(m.y())),
+                                          std::llround(std::floor(m.z()))}};
+      pocket[f] = 1;
+      pocket_piece[f] = ids.emplace(key, static_cast<int>(ids.size())).first->second;
+    }
+  }
   std::vector<int> used(A.points.size(), -1);
   // The faces that can be selected, in order: those of a patch that heads its group and has an
   // empty side. Buried patches and crack walls are among them, so the rounds below look at these
@@ -3486,7 +3508,7 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
     std::fill(used.begin(), used.end(), -1);
     for (const int f : selectable) {
       const int p = L.patch[f];
-      if (buried[p] || crack[f] || rim_out[f]) continue;
+      if (pocket[f] || crack[f] || rim_out[f]) continue;
       const int side = emptySide(L, p);
       Tri t = A.faces[f];
       if (side < 0) std::swap(t[1], t[2]);
@@ -3508,13 +3530,13 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
   // none are left out. In the first kRimRounds rounds of each, a mouth whose fillings cross
   // only faces of its own rim has those faces left out instead (see Rims); they come back with
   // the patches at a mouth that still fails, and all of them when the rounds start again.
-  const std::vector<char> buried_found = buried;
+  const std::vector<char> pocket_found = pocket;
   const std::vector<char> crack_found = crack;
   std::size_t flaps = 0;  // flap faces left out by the last fillMouths
   long mouths = 0;
   for (int round = 0;; ++round) {
     select();
-    if (std::find(buried.begin(), buried.end(), 1) == buried.end() && std::find(crack.begin(), crack.end(), 1) == crack.end() &&
+    if (std::find(pocket.begin(), pocket.end(), 1) == pocket.end() && std::find(crack.begin(), crack.end(), 1) == crack.end() &&
         std::find(rim_out.begin(), rim_out.end(), 1) == rim_out.end())
       break;
     std::vector<std::array<int, 2>> trouble;
@@ -3527,10 +3549,10 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
       std::fill(rim_out.begin(), rim_out.end(), 0);
       if (std::find(crack.begin(), crack.end(), 1) != crack.end()) {
         std::fill(crack.begin(), crack.end(), 0);
-        buried = buried_found;
+        pocket = pocket_found;
         round = -1;
       } else {
-        std::fill(buried.begin(), buried.end(), 0);
+        std::fill(pocket.begin(), pocket.end(), 0);
       }
       continue;
     }
@@ -3578,23 +3600,32 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
       std::vector<char> next = at_mouth;
       for (const int f : selectable) {
         const Tri& t = A.faces[f];
-        if ((buried[L.patch[f]] || crack[f] || rim_out[f]) && (at_mouth[t[0]] || at_mouth[t[1]] || at_mouth[t[2]]))
+        if ((pocket[f] || crack[f] || rim_out[f]) && (at_mouth[t[0]] || at_mouth[t[1]] || at_mouth[t[2]]))
           next[t[0]] = next[t[1]] = next[t[2]] = 1;
       }
       at_mouth.swap(next);
     }
-    std::set<int> kept_regions;
+    std::set<int> kept_regions, kept_pieces;
     for (const int f : selectable) {
       const Tri& t = A.faces[f];
       if (round > 2 ? !(at_mouth[t[0]] || at_mouth[t[1]] || at_mouth[t[2]]) : !onTroubledEdge(t)) continue;
-      buried[L.patch[f]] = 0;
       rim_out[f] = 0;  // (a rim left out at a mouth that still fails comes back)
+      if (pocket[f]) kept_pieces.insert(pocket_piece[f]);
       if (crack[f]) kept_regions.insert(crack_region[f]);
     }
-    for (const int f : selectable)
+    for (const int f : selectable) {
+      if (pocket[f] && kept_pieces.count(pocket_piece[f])) pocket[f] = 0;
       if (crack[f] && kept_regions.count(crack_region[f])) crack[f] = 0;
+    }
   }
-  env.buried_patches_removed = static_cast<std::size_t>(std::count(buried.begin(), buried.end(), 1));
+  {  // a buried patch counts as removed when none of its pieces was kept
+    std::vector<char> kept(buried.size(), 0);
+    for (std::size_t f = 0; f < A.faces.size(); ++f)
+      if (pocket_found[f] && !pocket[f]) kept[static_cast<std::size_t>(L.patch[f])] = 1;
+    const auto found = static_cast<std::size_t>(std::count(buried.begin(), buried.end(), 1));
+    env.buried_patches_kept = static_cast<std::size_t>(std::count(kept.begin(), kept.end(), 1));
+    env.buried_patches_removed = found - env.buried_patches_kept;
+  }
   env.crack_faces_removed = 0;
   env.crack_faces_kept = 0;
   env.mouth_flaps_removed = mouths > 0 ? flaps : 0;
@@ -3603,8 +3634,6 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
     env.crack_faces_removed += crack[f] && crack_found[f];
     env.crack_faces_kept += !crack[f] && crack_found[f];
   }
-  env.buried_patches_kept =
-      static_cast<std::size_t>(std::count(buried_found.begin(), buried_found.end(), 1)) - env.buried_patches_removed;
   env.pocket_mouths_filled = mouths < 0 ? 0 : static_cast<std::size_t>(mouths);
   // Tips of three faces that poke into the swept volume give way to the triangle of their
   // neighbours (see fillBuriedDents).

@@ -157,8 +157,8 @@ struct Envelope {
   /// empty side meets a selected face facing it and ends inside the swept volume.
   std::size_t crack_faces_removed = 0;
   /// Buried patches and crack walls found as above but kept, because the mouths that leaving
-  /// them out would open could not be closed (the envelope must stay closed): patches, and
-  /// faces. They lie inside the swept volume, so near them an envelope vertex may lie deeper
+  /// them out would open could not be closed (the envelope must stay closed): patches of which
+  /// some piece was kept (pieces of about 4 ε, those with an edge on such a mouth), and faces. They lie inside the swept volume, so near them an envelope vertex may lie deeper
   /// than ε inside it; where both are 0, every buried patch and crack wall found is gone.
   std::size_t buried_patches_kept = 0;
   std::size_t crack_faces_kept = 0;  ///< (see buried_patches_kept)
