@@ -3445,10 +3445,23 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
   if (options.progress) options.progress({"output", 0.0});
   std::vector<char> buried = buriedPatches(A, L, kTessellationShare * eps, inside_swept, options.threads);
   std::vector<char> crack = crackFaces(A, L, buried, kTessellationShare * eps, inside_swept, options.threads);
-  // Crack walls joined across shared edges form regions, cut into pieces by a grid (see
-  // kCrackCell); a piece at a mouth that cannot be closed is kept as a whole.
-  std::vector<int> crack_region(A.faces.size(), -1);
+  // Crack walls joined across shared edges form regions, and buried patches hold faces of
+  // their own; both are cut into pieces by a grid (see kCrackCell), and a piece at a mouth that
+  // cannot be closed is kept as a whole, not its whole region or patch (campaign case 482: a
+  // patch of 18 faces spanning 56 eps, kept whole for a mouth 14 eps from its far end, 1.02 eps
+  // deep there). Pieces are numbered by (region or patch, grid cell of the face's centroid).
+  std::vector<int> crack_region(A.faces.size(), -1), pocket_piece(A.faces.size(), -1);
+  std::vector<char> pocket(A.faces.size(), 0);  // faces of buried patches
   {
+    const double cell = kCrackCell * kTessellationShare * eps;
+    std::map<std::array<long long, 4>, int> crack_ids, pocket_ids;
+    auto piece = [&](std::map<std::array<long long, 4>, int>& ids, long long owner, std::size_t f) {
+      const Tri& t = A.faces[f];
+      const Vec m = (A.approx[t[0]] + A.approx[t[1]] + A.approx[t[2]]) / (3.0 * cell);
+      const std::array<long long, 4> key{
+          {owner, std::llround(std::floor(m.x())), std::llround(std::floor(m.y())), std::llround(std::floor(m.z()))}};
+      return ids.emplace(key, static_cast<int>(ids.size())).first->second;
+    };
     std::vector<int> parent(A.faces.size());
     std::iota(parent.begin(), parent.end(), 0);
     std::unordered_map<std::uint64_t, int> first;
@@ -3459,34 +3472,9 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
         if (!added) parent[findRoot(parent, it->second)] = findRoot(parent, static_cast<int>(f));
       }
     }
-    const double cell = kCrackCell * kTessellationShare * eps;
-    std::map<std::array<long long, 4>, int> ids;
     for (std::size_t f = 0; f < A.faces.size(); ++f) {
-      if (!crack[f]) continue;
-      const Tri& t = A.faces[f];
-      const Vec m = (A.approx[t[0]] + A.approx[t[1]] + A.approx[t[2]]) / (3.0 * cell);
-      const std::array<long long, 4> key{{findRoot(parent, static_cast<int>(f)), std::llround(std::floor(m.x())),
-                                          std::llround(std::floor(m.y())), std::llround(std::floor(m.z()))}};
-      crack_region[f] = ids.emplace(key, static_cast<int>(ids.size())).first->second;
-    }
-  }
-  // The faces of buried patches, cut into pieces by the same grid: a pocket's walls run along
-  // the strips as a crack's do, and a piece at a mouth that cannot be closed is kept, not the
-  // whole patch (campaign case 482: a patch of 18 faces spanning 56 eps kept whole for a mouth
-  // 14 eps from its tip, 1.02 eps deep).
-  std::vector<char> pocket(A.faces.size(), 0);
-  std::vector<int> pocket_piece(A.faces.size(), -1);
-  {
-    const double cell = kCrackCell * kTessellationShare * eps;
-    std::map<std::array<long long, 4>, int> ids;
-    for (std::size_t f = 0; f < A.faces.size(); ++f) {
-      if (!buried[L.patch[f]]) continue;
-      const Tri& t = A.faces[f];
-      const Vec m = (A.approx[t[0]] + A.approx[t[1]] + A.approx[t[2]]) / (3.0 * cell);
-      const std::array<long long, 4> key{{L.patch[f], std::llround(std::floor(m.x())), std::llround(std::floor(m.y())),
-                                          std::llround(std::floor(m.z()))}};
-      pocket[f] = 1;
-      pocket_piece[f] = ids.emplace(key, static_cast<int>(ids.size())).first->second;
+      if (crack[f]) crack_region[f] = piece(crack_ids, findRoot(parent, static_cast<int>(f)), f);
+      if (buried[L.patch[f]]) pocket[f] = 1, pocket_piece[f] = piece(pocket_ids, L.patch[f], f);
     }
   }
   std::vector<int> used(A.points.size(), -1);
