@@ -710,9 +710,11 @@ TEST(Envelope, SameEnvelopeRunToRunOnTheCgalSphereScrew) {
 // filling closes at one end of such a region kept the whole region (846 crack faces), and 143
 // envelope vertices, up to 1.66 eps inside the swept volume, lay on walls far from that mouth.
 // Regions are now kept by pieces (the faces in one cell of a grid of kCrackCell tessellation
-// tolerances, 4 eps): 71 crack faces kept with cells of 16 eps, 48 with 4 eps, and around the
-// vertex that was 1.10 eps deep every envelope vertex is within T = 1.01 eps of the true
-// boundary (38 of them were not).
+// tolerances, 1 eps; 71 crack faces kept with cells of 16 eps, 48 with 4, 40 with 1), and
+// around the vertex that was 1.10 eps deep every envelope vertex is within T = 1.01 eps of the
+// true boundary (38 of them were not). With cells of 4 eps, a kept piece at another mouth held a
+// vertex 1.23 eps deep, 10 eps from that mouth (its faces are long along the strips): the box
+// about it is checked too.
 TEST(Envelope, CrackRegionsAreKeptByPiecesNearTheirFailedMouths) {
   std::mt19937_64 rng(73003761ull ^ 0x9E3779B97F4A7C15ull);  // (as the campaign draws it)
   const Mesh m = randomConvex(rng, 10 + static_cast<int>(rng() % 7));
@@ -729,6 +731,8 @@ TEST(Envelope, CrackRegionsAreKeptByPiecesNearTheirFailedMouths) {
   EXPECT_GT(env.crack_faces_removed, 0u);
   expectCrackMouthClosed(env, m, motion, V(-0.077330055573830131, -0.48945229024906567, 0.67040394660703762),
                          "convex screw crack walls");
+  expectCrackMouthClosed(env, m, motion, V(0.47910808059323562, -0.83085823285709459, 0.16289383310152697),
+                         "convex screw crack walls at another mouth");
 }
 
 // The stress campaign's CGAL sphere on a polySAM of three spans (case 2959, tolerance 2e-3): a
