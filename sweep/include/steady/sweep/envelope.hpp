@@ -32,7 +32,7 @@
 /// and cracks whose mouths could not be closed (kept and counted: Envelope::buried_patches_kept,
 /// crack_faces_kept; they may lie deeper than ε inside) and, rarely, at the apex of a thin fold
 /// that none of these tests finds. Checked vertex by vertex on 1,500 random cases (README, "What
-/// does not hold yet"), one fails: a vertex 1.23 ε deep on kept crack walls.
+/// does not hold yet"), none fails.
 
 #include <steady/core/motion.hpp>
 #include <steady/sweep/body.hpp>
@@ -158,8 +158,9 @@ struct Envelope {
   std::size_t crack_faces_removed = 0;
   /// Buried patches and crack walls found as above but kept, because the mouths that leaving
   /// them out would open could not be closed (the envelope must stay closed): patches of which
-  /// some piece was kept (pieces of about 4 ε, those with an edge on such a mouth), and faces. They lie inside the swept volume, so near them an envelope vertex may lie deeper
-  /// than ε inside it; where both are 0, every buried patch and crack wall found is gone.
+  /// some piece was kept (pieces of about 1 ε, those with an edge on such a mouth), and faces.
+  /// They lie inside the swept volume, so near them an envelope vertex may lie deeper than ε
+  /// inside it; where both are 0, every buried patch and crack wall found is gone.
   std::size_t buried_patches_kept = 0;
   std::size_t crack_faces_kept = 0;  ///< (see buried_patches_kept)
   /// Mouths of such pockets and cracks (loops of edges left with one face) closed by hole filling.
