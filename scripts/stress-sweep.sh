@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The seeded stress campaign of the sweep (tests/sweep/stress_sweep.cpp): cases FIRST .. END-1 of
 # its table (default 0 .. 1799; the seeded table goes on beyond), each in its own process with a
-# time limit, so that a crash or a hang loses that case only, JOBS at a time. Appends every case's lines to
-# LOG, then prints the counts of this run and the cases that did not pass.
+# time limit, so that a crash or a hang loses that case only, JOBS at a time. Appends every
+# case's lines to LOG, then prints the counts of this run and the cases that did not pass.
 #
 # Usage: scripts/stress-sweep.sh [FIRST [END]] [steady_sweep_stress options: --dense,
 #        --all-vertices, --repro-dir DIR]

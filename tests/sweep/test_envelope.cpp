@@ -632,19 +632,29 @@ TEST(Envelope, SameEnvelopeOnAnyNumberOfThreads) {
 
 #ifdef STEADY_CGAL_MESHES
 // One of CGAL's sample meshes (Debian's libcgal-demo), centred and scaled to a unit diagonal as
-// in bench/sample_meshes.hpp (bit for bit), and the benchmark's screw: a half turn about a
-// vertical axis at x = 0.5 while rising 1.
-struct SampleOnScrew {
-  steady::io::TriangleMesh mesh;
-  Span3 span;
-};
-SampleOnScrew cgalSampleOnTheBenchmarkScrew(const std::string& name) {
+// in bench/sample_meshes.hpp (bit for bit).
+steady::io::TriangleMesh cgalSample(const std::string& name) {
   steady::io::TriangleMesh mesh = steady::io::readMesh(std::string(STEADY_CGAL_MESHES) + "/" + name);
   V lo = mesh.vertices.front(), hi = lo;
   for (const V& x : mesh.vertices) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
   const double s = 1.0 / (hi - lo).norm();
   const V c = 0.5 * (lo + hi);
   for (V& x : mesh.vertices) x = s * (x - c);
+  return mesh;
+}
+// The same as a test mesh.
+Mesh cgalSampleMesh(const std::string& name) {
+  steady::io::TriangleMesh mesh = cgalSample(name);
+  return {std::move(mesh.vertices), std::move(mesh.faces)};
+}
+// A sample and the benchmark's screw: a half turn about a vertical axis at x = 0.5 while
+// rising 1.
+struct SampleOnScrew {
+  steady::io::TriangleMesh mesh;
+  Span3 span;
+};
+SampleOnScrew cgalSampleOnTheBenchmarkScrew(const std::string& name) {
+  steady::io::TriangleMesh mesh = cgalSample(name);
   const V axis_point(0.5, 0, 0);
   const Affine3 end = Affine3::translation(axis_point + V(0, 0, 1)) * Affine3::rotation(V(0, 0, 1), M_PI * (1 - 1e-9)) *
                       Affine3::translation(-axis_point);
@@ -745,8 +755,7 @@ TEST(Envelope, PocketTouchingAFailedMouthAtAPointIsLeftOut) {
 #ifndef STEADY_CGAL_MESHES
   GTEST_SKIP() << "CGAL's sample meshes (Debian libcgal-demo) were not found when the build was configured";
 #else
-  steady::io::TriangleMesh sphere = cgalSampleOnTheBenchmarkScrew("sphere.off").mesh;
-  const Mesh m{std::move(sphere.vertices), std::move(sphere.faces)};
+  const Mesh m = cgalSampleMesh("sphere.off");
   Eigen::Matrix<double, 3, 4> k0, k1, k2, k3;
   k0 << -0.65754003591899091, -0.73565034332209478, 0.16266429704682026, -0.16036400332688805,  //
       0.75340361307075321, -0.64061175436610573, 0.14832254036361098, 0.24793109766535337,       //
@@ -780,8 +789,7 @@ TEST(Envelope, BuriedPatchesAreKeptByPiecesNearTheirFailedMouths) {
 #ifndef STEADY_CGAL_MESHES
   GTEST_SKIP() << "CGAL's sample meshes (Debian libcgal-demo) were not found when the build was configured";
 #else
-  steady::io::TriangleMesh sphere = cgalSampleOnTheBenchmarkScrew("sphere.off").mesh;
-  const Mesh m{std::move(sphere.vertices), std::move(sphere.faces)};
+  const Mesh m = cgalSampleMesh("sphere.off");
   Eigen::Matrix<double, 3, 4> b, c;
   b << -0.66328833732556092, -0.74652413601920109, -0.052443263711160037, -0.16875185315539787,  //
       0.38315698160623957, -0.39895961371680533, 0.83307980054094033, 0.15380470190145168,        //
