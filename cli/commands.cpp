@@ -717,6 +717,17 @@ std::string checkSummary(const steady::sweep::MeshCheck& c, bool checked) {
   return s + std::to_string(c.self_intersections) + " SELF-INTERSECTING face pairs";
 }
 
+// The summary's warning when some vertex of the walls kept at mouths that could not be closed is
+// not certified within the tolerance of the true boundary (Envelope::kept_wall_uncertified);
+// empty otherwise.
+std::string uncertifiedWarning(const steady::sweep::Envelope& e) {
+  if (e.kept_wall_uncertified.empty()) return {};
+  const std::string bound = std::isfinite(e.kept_wall_depth_bound) ? num(e.kept_wall_depth_bound) : "over 8 x tolerance";
+  return "; warning: " + count(e.kept_wall_uncertified.size(), "vertex", "vertices") +
+         " of walls kept at mouths that could not be closed not certified within the tolerance of the true boundary "
+         "(bound " + bound + "; indices in the report's kept_wall_uncertified)";
+}
+
 }  // namespace
 
 SweepOutput sweepCommand(const SweepRequest& request) {
@@ -835,6 +846,9 @@ SweepOutput sweepCommand(const SweepRequest& request) {
   report["crack_faces_removed"] = envelope.crack_faces_removed;
   report["buried_patches_kept"] = envelope.buried_patches_kept;
   report["crack_faces_kept"] = envelope.crack_faces_kept;
+  report["kept_wall_vertices"] = envelope.kept_wall_vertices;
+  report["kept_wall_depth_bound"] = outputNumber(envelope.kept_wall_depth_bound);  // (null: infinite)
+  report["kept_wall_uncertified"] = envelope.kept_wall_uncertified;
   report["pocket_mouths_filled"] = envelope.pocket_mouths_filled;
   report["mouth_flaps_removed"] = envelope.mouth_flaps_removed;
   report["mouth_rim_faces_removed"] = envelope.mouth_rim_faces_removed;
@@ -919,7 +933,8 @@ SweepOutput sweepCommand(const SweepRequest& request) {
       count(envelope.triangles.size(), "triangle", "triangles") + ", volume " + num(envelope.volume) + ", area " +
       num(envelope.area) + " (tolerance " + num(envelope.tolerance) + " = " + num(relative) +
       " x body diagonal) written to " + request.output + (request.binary ? " (binary)" : "") + " in " + seconds +
-      "; check: " + checkSummary(envelope.check, request.check);
+      "; check: " + checkSummary(envelope.check, request.check) +
+      uncertifiedWarning(envelope);
   return result;
 }
 

@@ -43,6 +43,7 @@
 
 #include "box_orientation.hpp"
 #include "cycle.hpp"
+#include "depth_bound.hpp"
 #include "face_tree.hpp"
 
 #include <steady/core/error.hpp>
@@ -2630,28 +2631,29 @@ std::vector<char> buriedPatches(const Arrangement& A, const Labels& L, double ep
   auto approx = [&](int v) { return A.approx[v]; };
   // Selected patches, the side their empty side is on (+1: in front of their faces), and
   // their largest face.
-  std::vector<int> side(np, 0), largest(np, -1);
+  std::vector<std::array<int, 2>> side_largest(np, {{0, -1}});  // (side, largest face) per patch
   std::vector<double> area(np, -1);
   for (std::size_t p = 0; p < np; ++p) {
-    if (L.group[p] == static_cast<int>(p)) side[p] = emptySide(L, static_cast<int>(p));
+    if (L.group[p] == static_cast<int>(p)) side_largest[p][0] = emptySide(L, static_cast<int>(p));
   }
   for (std::size_t f = 0; f < A.faces.size(); ++f) {
     const int p = L.patch[f];
-    if (!side[p]) continue;
+    if (!side_largest[p][0]) continue;
     const Tri& t = A.faces[f];
     const double a = (approx(t[1]) - approx(t[0])).cross(approx(t[2]) - approx(t[0])).norm();
-    if (a > area[p]) area[p] = a, largest[p] = static_cast<int>(f);
+    if (a > area[p]) area[p] = a, side_largest[p][1] = static_cast<int>(f);
   }
   // The probe points first (the exact points' approximations are not read concurrently), then
   // the inside tests, in parallel.
   std::vector<std::pair<std::size_t, Vec>> probe;
   for (std::size_t p = 0; p < np; ++p) {
-    if (!side[p] || largest[p] < 0) continue;
-    const Tri& t = A.faces[largest[p]];
+    const auto [side, largest] = side_largest[p];
+    if (!side || largest < 0) continue;
+    const Tri& t = A.faces[largest];
     const Vec a = approx(t[0]), b = approx(t[1]), c = approx(t[2]);
     const Vec n = (b - a).cross(c - a);
     if (!(n.norm() > 0)) continue;
-    probe.emplace_back(p, (a + b + c) / 3.0 + side[p] * kBuriedProbe * eps_t * n.normalized());
+    probe.emplace_back(p, (a + b + c) / 3.0 + side * kBuriedProbe * eps_t * n.normalized());
   }
   parallelFor(0, probe.size(), threads, [&](std::size_t i) { flag[probe[i].first] = inside_swept(probe[i].second); });
   return flag;
@@ -3413,8 +3415,92 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
   return static_cast<long>(loops.size());
 }
 
+// An output vertex belongs to a kept wall when it lies within this many ε of one of its points:
+// the steps after the selection move vertices by at most 1e-3 ε (the pinch separation) and far
+// less (the rounding merges, 1e-13 of the scene), while distinct points of the arrangement lie
+// much farther apart than 1e-3 ε wherever rounding leaves them distinct.
+constexpr double kKeptMatch = 2e-3;
+
+// The indices of the vertices of V within `reach` of some point of P, in increasing order: a
+// binary search among P sorted by x (reach is tiny, so few points share a vertex's x range).
+std::vector<int> verticesNear(const std::vector<Vec>& V, const std::vector<Vec>& P, double reach) {
+  std::vector<int> out;
+  if (P.empty() || !(reach > 0)) return out;
+  std::vector<Vec> sorted = P;
+  std::sort(sorted.begin(), sorted.end(), [](const Vec& a, const Vec& b) { return a.x() < b.x(); });
+  for (std::size_t v = 0; v < V.size(); ++v) {
+    const Vec& x = V[v];
+    auto it = std::lower_bound(sorted.begin(), sorted.end(), x.x() - reach,
+                               [](const Vec& p, double value) { return p.x() < value; });
+    for (; it != sorted.end() && it->x() <= x.x() + reach; ++it)
+      if ((*it - x).norm() <= reach) {
+        out.push_back(static_cast<int>(v));
+        break;
+      }
+  }
+  return out;
+}
+
+// The certified depth bounds of the vertices `which` of the surface (V, T) (see
+// depth_bound.hpp), in parallel, with the surface's directions at each: across it the vertex
+// normal (the sum of its faces' area-weighted normals) and the faces' normals, along it the
+// vertex's edges and 12 directions in the plane of each of those normals, and its faces.
+// Returns the largest bound, and the vertices whose bound exceeds ε.
+struct DepthBound {
+  double worst = 0;
+  std::vector<int> beyond;  // the vertices whose bound exceeds ε, in increasing order
+};
+DepthBound surfaceDepths(const std::vector<Vec>& V, const std::vector<Tri>& T, const std::vector<int>& which, double eps,
+                         double delta, const std::function<bool(const Vec&)>& inside_swept, int threads) {
+  DepthBound out;
+  if (which.empty() || !inside_swept) return out;
+  std::vector<int> slot(V.size(), -1);
+  for (std::size_t i = 0; i < which.size(); ++i) slot[static_cast<std::size_t>(which[i])] = static_cast<int>(i);
+  std::vector<Vec> vertex_normal(which.size(), Vec::Zero());
+  std::vector<detail::SurfaceProbes> probes(which.size());
+  for (const Tri& t : T) {
+    const Vec n = (V[t[1]] - V[t[0]]).cross(V[t[2]] - V[t[0]]);
+    const Vec centroid = (V[t[0]] + V[t[1]] + V[t[2]]) / 3.0;
+    for (int k = 0; k < 3; ++k) {
+      const int i = slot[t[k]];
+      if (i < 0) continue;
+      vertex_normal[i] += n;
+      detail::SurfaceProbes& p = probes[i];
+      const Vec e = V[t[(k + 1) % 3]] - V[t[k]], into = centroid - V[t[k]];
+      if (e.norm() > 0) p.tangents.push_back(e.normalized());
+      if (n.norm() > 0 && into.norm() > 0) {
+        p.normals.push_back(n.normalized());
+        p.normals.push_back(-n.normalized());
+        p.faces.push_back({{into.normalized(), n.normalized()}});
+      }
+    }
+  }
+  std::vector<double> bound(which.size());
+  parallelFor(0, which.size(), threads, [&](std::size_t i) {
+    detail::SurfaceProbes& p = probes[i];
+    // (12 directions in the plane of each normal: the vertex normal's, then each face's)
+    auto circle = [&](const Vec& n) {
+      const Vec u = n.unitOrthogonal(), w = n.cross(u);
+      for (int k = 0; k < 12; ++k) p.tangents.push_back(std::cos(k * M_PI / 6) * u + std::sin(k * M_PI / 6) * w);
+    };
+    const double nn = vertex_normal[i].norm();
+    if (nn > 0) {
+      const Vec n = vertex_normal[i] / nn;
+      p.normals.insert(p.normals.begin(), {n, -n});
+      circle(n);
+    }
+    for (const auto& f : p.faces) circle(f[1]);
+    bound[i] = detail::depthBound(V[static_cast<std::size_t>(which[i])], eps, delta, inside_swept, p);
+  });
+  for (std::size_t i = 0; i < which.size(); ++i) {
+    out.worst = std::max(out.worst, bound[i]);
+    if (bound[i] > eps) out.beyond.push_back(which[i]);
+  }
+  return out;
+}
+
 Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const SweepOptions& options,
-                    const std::function<bool(const Vec&)>& inside_swept,
+                    const std::function<bool(const Vec&)>& inside_swept, double inside_tolerance,
                     std::chrono::steady_clock::time_point t_start, double t_cycle) {
   Envelope env;
   env.tolerance = eps;
@@ -3624,6 +3710,17 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
     env.crack_faces_removed += crack[f] && crack_found[f];
     env.crack_faces_kept += !crack[f] && crack_found[f];
   }
+  // The points of the kept walls as selected (kept faces not left out as rims), whose output
+  // vertices get a certified depth bound at the end.
+  std::vector<Vec> kept_points;
+  {
+    std::vector<char> on_kept(A.points.size(), 0);
+    for (const int f : selectable)
+      if (!rim_out[f] && ((crack_found[f] && !crack[f]) || (pocket_found[f] && !pocket[f])))
+        for (const int v : A.faces[f]) on_kept[v] = 1;
+    for (std::size_t v = 0; v < on_kept.size(); ++v)
+      if (on_kept[v]) kept_points.push_back(A.approx[v]);
+  }
   env.pocket_mouths_filled = mouths < 0 ? 0 : static_cast<std::size_t>(mouths);
   // Tips of three faces that poke into the swept volume give way to the triangle of their
   // neighbours (see fillBuriedDents).
@@ -3655,6 +3752,14 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
     env.vertices.swap(kept);
     env.pinched_vertices_split = copies;
     env.pinches_touching = separatePinches(env.vertices, env.triangles, eps, options.threads);
+  }
+  {  // how deep the output vertices of the kept walls lie (see surfaceDepths)
+    const std::vector<int> on_kept = verticesNear(env.vertices, kept_points, kKeptMatch * eps);
+    const DepthBound depth =
+        surfaceDepths(env.vertices, env.triangles, on_kept, eps, inside_tolerance, inside_swept, options.threads);
+    env.kept_wall_vertices = on_kept.size();
+    env.kept_wall_depth_bound = depth.worst;
+    env.kept_wall_uncertified = depth.beyond;
   }
   env.timings.output = seconds(t0);
 
@@ -3704,7 +3809,7 @@ Envelope sweptEnvelope(const Body& body, const Motion3& motion, const SweepOptio
   }
   if (n > 1) detail::cancelOpposite(cycle);
   const SweptVolume swept(body, motion);
-  return envelopeOf(std::move(cycle), eps, n, options, [&](const Vec& x) { return swept.contains(x); }, t_start,
+  return envelopeOf(std::move(cycle), eps, n, options, [&](const Vec& x) { return swept.contains(x); }, swept.tolerance(), t_start,
                     seconds(t_start));
 }
 
@@ -3715,7 +3820,7 @@ Envelope sweptEnvelope(const Body& body, const Span3& span, const SweepOptions& 
   if (options.progress) options.progress({"cycle", 0.0});
   detail::appendSpanCycle(cycle, body, span, nullptr, kTessellationShare * eps, options.grazing, options.max_steps, 0);
   const SweptVolume swept(body, span);
-  return envelopeOf(std::move(cycle), eps, 1, options, [&](const Vec& x) { return swept.contains(x); }, t_start,
+  return envelopeOf(std::move(cycle), eps, 1, options, [&](const Vec& x) { return swept.contains(x); }, swept.tolerance(), t_start,
                     seconds(t_start));
 }
 

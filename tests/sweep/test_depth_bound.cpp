@@ -1,0 +1,161 @@
+// The certified depth bound of a point from the inside test alone (sweep/src/depth_bound.hpp),
+// which the envelope reports for the walls it keeps at mouths it could not close
+// (Envelope::kept_wall_depth_bound). Checked here against solids whose boundary distance is
+// known: half-spaces (tilted the worst way for the 26 probe directions) and balls.
+#include "depth_bound.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+namespace {
+
+using steady::sweep::detail::cubeDirections;
+using steady::sweep::detail::depthBound;
+using steady::sweep::detail::kDepthClaims;
+using V = Eigen::Vector3d;
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kEps = 1e-3;
+constexpr double kDelta = 1e-12;
+
+// The half-space {x : n . x <= 0} (n a unit vector), exactly.
+struct HalfSpace {
+  V n;
+  bool operator()(const V& x) const { return n.dot(x) <= 0; }
+};
+
+// The ball of radius r about the origin, exactly.
+struct Ball {
+  double r;
+  bool operator()(const V& x) const { return x.norm() <= r; }
+};
+
+// The angle from unit direction d to the nearest of the 26 probe directions.
+double nearestAngle(const V& d) {
+  double nearest = -1;
+  for (const V& p : cubeDirections()) nearest = std::max(nearest, d.dot(p));
+  return std::acos(std::min(1.0, nearest));
+}
+
+// The unit direction farthest from the 26 probe directions, and its angle to the nearest: by
+// symmetry the cone 0 <= y <= x <= z holds one; a grid over it, then a shrinking local search.
+V farthestDirection(double* angle) {
+  auto dir = [](double x, double y) { return V(x, y, 1.0).normalized(); };
+  double bx = 0, by = 0, worst = 0;
+  for (int i = 0; i <= 400; ++i)
+    for (int j = 0; j <= i; ++j) {
+      const double a = nearestAngle(dir(i / 400.0, j / 400.0));
+      if (a > worst) worst = a, bx = i / 400.0, by = j / 400.0;
+    }
+  for (double h = 1.0 / 400; h > 1e-12; h *= 0.7)
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy) {
+        const double a = nearestAngle(dir(bx + dx * h, by + dy * h));
+        if (a > worst) worst = a, bx += dx * h, by += dy * h;
+      }
+  *angle = worst;
+  return dir(bx, by);
+}
+
+TEST(DepthBound, DirectionsAreTheCubesTwentySix) {
+  ASSERT_EQ(cubeDirections().size(), 26u);
+  for (const V& d : cubeDirections()) EXPECT_NEAR(d.norm(), 1.0, 1e-15);
+  double angle = 0;
+  farthestDirection(&angle);
+  // The documented covering: every direction within about 27.6 degrees of a probe direction
+  // (27.569 degrees, at (sqrt 2 - 1, 0.318, 1) and its images).
+  EXPECT_NEAR(angle * 180 / M_PI, 27.569, 0.001);
+}
+
+// Below a flat boundary along a probe direction: the first claim whose radius reaches it.
+TEST(DepthBound, DepthBelowAFlatBoundaryAlongAProbeDirection) {
+  const HalfSpace s{V(0, 0, 1)};
+  EXPECT_EQ(depthBound(V(0, 0, -0.3 * kEps), kEps, kDelta, s), kEps);
+  EXPECT_EQ(depthBound(V(0, 0, -0.99 * kEps), kEps, kDelta, s), kEps);
+  EXPECT_EQ(depthBound(V(0, 0, -1.1 * kEps), kEps, kDelta, s), 1.25 * kEps);
+  EXPECT_EQ(depthBound(V(0, 0, -1.4 * kEps), kEps, kDelta, s), 1.5 * kEps);
+  EXPECT_EQ(depthBound(V(0, 0, -3 * kEps), kEps, kDelta, s), 4 * kEps);
+  EXPECT_EQ(depthBound(V(0, 0, -7.9 * kEps), kEps, kDelta, s), 8 * kEps);
+  EXPECT_EQ(depthBound(V(0, 0, -9 * kEps), kEps, kDelta, s), kInf);
+  // A point outside looks for a point inside.
+  EXPECT_EQ(depthBound(V(0, 0, 0.5 * kEps), kEps, kDelta, s), kEps);
+  EXPECT_EQ(depthBound(V(0, 0, 1.2 * kEps), kEps, kDelta, s), 1.25 * kEps);
+  // The radius leaves four inside-test tolerances: a boundary just inside the claim but beyond
+  // that radius is not claimed.
+  const double r = kEps - 4 * kDelta;
+  EXPECT_EQ(depthBound(V(0, 0, -(r - 1e-6 * kEps)), kEps, kDelta, s), kEps);
+  EXPECT_EQ(depthBound(V(0, 0, -(r + 1e-6 * kEps)), kEps, kDelta, s), 1.25 * kEps);
+}
+
+// Below a flat boundary whose normal is the direction farthest from every probe: a point at
+// depth d is claimed at the first radius at least d / cos(angle).
+TEST(DepthBound, DepthBelowAFlatBoundaryTiltedTheWorstWay) {
+  double angle = 0;
+  const V n = farthestDirection(&angle);
+  const HalfSpace s{n};
+  const double stretch = 1 / std::cos(angle);  // about 1.13
+  const double r = kEps - 4 * kDelta;
+  EXPECT_EQ(depthBound(V(-0.98 * r / stretch * n), kEps, kDelta, s), kEps);
+  EXPECT_EQ(depthBound(V(-1.02 * r / stretch * n), kEps, kDelta, s), 1.25 * kEps);
+}
+
+TEST(DepthBound, CentresOfBalls) {
+  EXPECT_EQ(depthBound(V::Zero(), kEps, kDelta, Ball{0.5 * kEps}), kEps);
+  EXPECT_EQ(depthBound(V::Zero(), kEps, kDelta, Ball{1.7 * kEps}), 2 * kEps);
+  EXPECT_EQ(depthBound(V::Zero(), kEps, kDelta, Ball{5 * kEps}), 8 * kEps);
+  EXPECT_EQ(depthBound(V::Zero(), kEps, kDelta, Ball{20 * kEps}), kInf);
+}
+
+// A tolerance not far above the inside test's: claims whose radius would not be positive are
+// skipped (here all but 8 eps, whose radius is 8 eps - 4 delta = 4e-9).
+TEST(DepthBound, ClaimsWithoutARadiusAreSkipped) {
+  const double eps = 1e-9, delta = 1e-9;
+  const HalfSpace s{V(0, 0, 1)};
+  EXPECT_EQ(depthBound(V(0, 0, -1e-12), eps, delta, s), 8 * eps);
+  EXPECT_EQ(depthBound(V(0, 0, -4.5e-9), eps, delta, s), kInf);
+}
+
+// Seeded property: for random half-spaces and balls, and random points near their boundary,
+// the bound is never below the true distance to the boundary (it is certified), and it is the
+// first claim at or above 1.13 times that distance (the probes are not needlessly coarse).
+TEST(DepthBound, NeverBelowTheTrueDistanceAndNotLoose) {
+  std::mt19937_64 rng(20261127);
+  std::normal_distribution<double> g;
+  std::uniform_real_distribution<double> depth(-9 * kEps, 9 * kEps);
+  int checked = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const V n = V(g(rng), g(rng), g(rng)).normalized();
+    const double d = depth(rng);
+    const V along = V(g(rng), g(rng), g(rng)).cross(n);  // (any point of the plane, offset)
+    const V x = along + d * n;                            // signed distance d to the plane
+    const HalfSpace s{n};
+    const double b = depthBound(x, kEps, kDelta, s);
+    const double dist = std::abs(d);
+    ASSERT_GE(b, dist) << "trial " << trial;
+    // The first claim whose radius reaches 1.13 times the distance (the covering angle's factor
+    // 1 / cos 27.6 deg is 1.1280) is never exceeded.
+    double loose = kInf;
+    for (const double c : kDepthClaims)
+      if (c * kEps - 4 * kDelta >= 1.1281 * dist) {
+        loose = c * kEps;
+        break;
+      }
+    EXPECT_LE(b, loose) << "trial " << trial << ", depth " << d / kEps << " eps";
+    ++checked;
+  }
+  for (int trial = 0; trial < 500; ++trial) {
+    const double radius = std::abs(depth(rng)) + 0.1 * kEps;
+    const V x = V(g(rng), g(rng), g(rng)).normalized() * (radius * std::uniform_real_distribution<double>(0, 1.5)(rng));
+    const double b = depthBound(x, kEps, kDelta, Ball{radius});
+    ASSERT_GE(b, std::abs(radius - x.norm())) << "ball trial " << trial;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 2500);
+}
+
+}  // namespace
