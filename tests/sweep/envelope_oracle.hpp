@@ -223,6 +223,99 @@ inline NearCheck checkVerticesInBox(const steady::sweep::Envelope& env, const Mo
   return c;
 }
 
+// Envelope vertices checked against the boundary of the swept volume S itself: each one the
+// certified oracle finds inside S (the minimum over the motion of its signed distance to the
+// posed body is negative) must have, within T = 1.01 eps, a point the oracle certifies outside
+// S (minimum above 0). checkVerticesInBox cannot see such a vertex: being inside S, it is within
+// T of some posed body's surface, and it may lie less than T deep in every posed body and yet
+// farther than T from the boundary of their union. Probes, until one is outside: along the
+// envelope's vertex normal (the area-weighted normals of its faces) and the 26 directions to
+// the faces, edges and corners of a cube at radius T (1 - 1e-3); then just off each face at the
+// vertex (x + a t +- b n, t the direction into the face, n its normal, a = T/2, T/4, T/8,
+// b = T 2^-j for j = 3 .. 12), where a thin crack of outside space ending at the vertex opens;
+// then 256 seeded random directions at T (1 - 1e-3) and T/2. `deep` lists the vertices whose
+// every probe the oracle certifies inside; `undecided` counts those with some probe it could
+// not decide and none outside.
+struct AcrossCheck {
+  int checked = 0, inside = 0, undecided = 0;
+  std::vector<int> deep;
+};
+inline AcrossCheck checkAcross(const steady::sweep::Envelope& env, const MovingBody& mb, const std::vector<int>& which) {
+  const double T = env.tolerance * 1.01;
+  std::vector<V> normal(env.vertices.size(), V::Zero());
+  std::vector<std::vector<std::array<V, 2>>> faces(env.vertices.size());
+  std::vector<char> wanted(env.vertices.size(), 0);
+  for (const int i : which) wanted[static_cast<std::size_t>(i)] = 1;
+  for (const auto& t : env.triangles) {
+    const V n = (env.vertices[t[1]] - env.vertices[t[0]]).cross(env.vertices[t[2]] - env.vertices[t[0]]);
+    const V centroid = (env.vertices[t[0]] + env.vertices[t[1]] + env.vertices[t[2]]) / 3.0;
+    for (const int v : t) {
+      normal[v] += n;
+      const V into = centroid - env.vertices[v];
+      if (wanted[v] && n.norm() > 0 && into.norm() > 0) faces[v].push_back({{into.normalized(), n.normalized()}});
+    }
+  }
+  std::vector<V> dirs;
+  for (int n = 1; n <= 3; ++n)
+    for (int i = -1; i <= 1; ++i)
+      for (int j = -1; j <= 1; ++j)
+        for (int k = -1; k <= 1; ++k)
+          if (std::abs(i) + std::abs(j) + std::abs(k) == n) dirs.push_back(V(i, j, k).normalized());
+  std::vector<V> random_dirs;
+  std::mt19937_64 rng(0x5eed);
+  std::normal_distribution<double> g;
+  while (random_dirs.size() < 256) {
+    const V d(g(rng), g(rng), g(rng));
+    if (d.norm() > 1e-3) random_dirs.push_back(d.normalized());
+  }
+  // -1 certified inside S, 1 certified outside, 0 undecided.
+  auto side = [&](const V& x) {
+    const MinBracket b = minSignedDistance(mb, x, [](double blo, double bhi) { return blo > 0 || bhi < 0; }, 6000);
+    return b.lo > 0 ? 1 : b.hi < 0 ? -1 : 0;
+  };
+  AcrossCheck c;
+  for (const int i : which) {
+    const V& x = env.vertices[static_cast<std::size_t>(i)];
+    ++c.checked;
+    if (side(x) >= 0) continue;
+    ++c.inside;
+    std::vector<V> probes;
+    const double r = T * (1 - 1e-3);
+    if (normal[i].norm() > 0) probes.push_back(x + r * normal[i].normalized());
+    for (const V& d : dirs) probes.push_back(x + r * d);
+    for (const auto& [t, n] : faces[i])
+      for (int a = 1; a <= 3; ++a)
+        for (int j = 3; j <= 12; ++j)
+          for (const double sign : {1.0, -1.0}) probes.push_back(x + std::ldexp(T, -a) * t + sign * std::ldexp(T, -j) * n);
+    for (const V& d : random_dirs) probes.push_back(x + r * d), probes.push_back(x + 0.5 * T * d);
+    bool across = false, unsure = false;
+    for (const V& q : probes) {
+      const int s = side(q);
+      if (s > 0) {
+        across = true;
+        break;
+      }
+      unsure = unsure || s == 0;
+    }
+    if (across) continue;
+    if (unsure)
+      ++c.undecided;
+    else
+      c.deep.push_back(i);
+  }
+  return c;
+}
+
+// checkAcross for the envelope vertices inside the box [lo, hi].
+inline AcrossCheck checkAcrossInBox(const steady::sweep::Envelope& env, const MovingBody& mb, const V& lo, const V& hi) {
+  std::vector<int> which;
+  for (std::size_t i = 0; i < env.vertices.size(); ++i) {
+    const V& x = env.vertices[i];
+    if ((x.array() >= lo.array()).all() && (x.array() <= hi.array()).all()) which.push_back(static_cast<int>(i));
+  }
+  return checkAcross(env, mb, which);
+}
+
 // The envelope of `mesh` along `motion` with default options (plus the given tolerance), and
 // its expected ε.
 inline steady::sweep::Envelope sweep(const Mesh& mesh, const steady::Motion3& motion, double relative = 1e-3) {
