@@ -17,8 +17,8 @@
 // 27.6° from any direction, so a point near a flat stretch of boundary, at depth d, finds a
 // probe across it at the first radius above about d / cos 27.6° = 1.13 d. But near a vertex of
 // the envelope the other side is often a layer far thinner than ε, which the fixed directions
-// all miss, so the caller gives the surface's own directions (SurfaceProbes), probed first and,
-// for the first claim, also closer to x:
+// all miss, so the caller gives the surface's own directions (SurfaceProbes), probed at each
+// claim's radius before the cube's and, for the first claim, after them also closer to x:
 // - across the surface (the vertex and face normals, both ways) at the radii ε 2^-j - 4δ
 //   (j up to kFineSteps): a thin layer beside the surface is crossed at about its distance;
 // - along the surface (its edges from x, and directions in the planes of its normals) at

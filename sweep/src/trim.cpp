@@ -33,7 +33,9 @@
 //    (see buriedPatches, crackFaces, fillBuriedDents). Coordinates are rounded to
 //    double at the very end; then nearly equal vertices are merged, thin cavities removed, and
 //    the vertices where the surface touches itself are split and moved apart by far less than
-//    the tolerance, so that the output is a 2-manifold without self-intersections.
+//    the tolerance, so that the output is a 2-manifold without self-intersections. The output
+//    vertices on walls kept at mouths that could not be closed get certified bounds on their
+//    distance to the true boundary (surfaceDepths, depth_bound.hpp).
 // Cap points of the cycle that are not doubles (detail::ExactPosition) enter as exact points,
 // so that the caps two spans of a polySAM leave on one posed body are exactly coplanar.
 #define CGAL_NO_CDT_2_WARNING
@@ -3415,10 +3417,10 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
   return static_cast<long>(loops.size());
 }
 
-// An output vertex belongs to a kept wall when it lies within this many ε of one of its points:
-// the steps after the selection move vertices by at most 1e-3 ε (the pinch separation) and far
-// less (the rounding merges, 1e-13 of the scene), while distinct points of the arrangement lie
-// much farther apart than 1e-3 ε wherever rounding leaves them distinct.
+// An output vertex counts as on a kept wall when it lies within this many ε of one of its
+// points: the steps after the selection move vertices by at most 1e-3 ε (the pinch separation)
+// and far less (the rounding merges, 1e-13 of the scene). A vertex of other faces that happens
+// to lie as close is checked too, which can only lengthen the list.
 constexpr double kKeptMatch = 2e-3;
 
 // The indices of the vertices of V within `reach` of some point of P, in increasing order: a
@@ -3809,8 +3811,8 @@ Envelope sweptEnvelope(const Body& body, const Motion3& motion, const SweepOptio
   }
   if (n > 1) detail::cancelOpposite(cycle);
   const SweptVolume swept(body, motion);
-  return envelopeOf(std::move(cycle), eps, n, options, [&](const Vec& x) { return swept.contains(x); }, swept.tolerance(), t_start,
-                    seconds(t_start));
+  return envelopeOf(std::move(cycle), eps, n, options, [&](const Vec& x) { return swept.contains(x); },
+                    swept.tolerance(), t_start, seconds(t_start));
 }
 
 Envelope sweptEnvelope(const Body& body, const Span3& span, const SweepOptions& options) {
@@ -3820,8 +3822,8 @@ Envelope sweptEnvelope(const Body& body, const Span3& span, const SweepOptions& 
   if (options.progress) options.progress({"cycle", 0.0});
   detail::appendSpanCycle(cycle, body, span, nullptr, kTessellationShare * eps, options.grazing, options.max_steps, 0);
   const SweptVolume swept(body, span);
-  return envelopeOf(std::move(cycle), eps, 1, options, [&](const Vec& x) { return swept.contains(x); }, swept.tolerance(), t_start,
-                    seconds(t_start));
+  return envelopeOf(std::move(cycle), eps, 1, options, [&](const Vec& x) { return swept.contains(x); },
+                    swept.tolerance(), t_start, seconds(t_start));
 }
 
 MeshCheck inspectMesh(const std::vector<Eigen::Vector3d>& vertices, const std::vector<std::array<int, 3>>& triangles,

@@ -1,7 +1,8 @@
 // The certified depth bound of a point from the inside test alone (sweep/src/depth_bound.hpp),
 // which the envelope reports for the walls it keeps at mouths it could not close
 // (Envelope::kept_wall_depth_bound). Checked here against solids whose boundary distance is
-// known: half-spaces (tilted the worst way for the 26 probe directions) and balls.
+// known: half-spaces (tilted the worst way for the 26 probe directions), balls, and thin layers
+// of the other side at a surface vertex that only the surface's own probes find.
 #include "depth_bound.hpp"
 
 #include <gtest/gtest.h>
@@ -118,6 +119,50 @@ TEST(DepthBound, ClaimsWithoutARadiusAreSkipped) {
   const HalfSpace s{V(0, 0, 1)};
   EXPECT_EQ(depthBound(V(0, 0, -1e-12), eps, delta, s), 8 * eps);
   EXPECT_EQ(depthBound(V(0, 0, -4.5e-9), eps, delta, s), kInf);
+}
+
+// Thin layers of the other side at a surface vertex, which every cube direction misses: each is
+// found by the surface probes made for it, and only with them. x is the origin, the surface's
+// normal m is a direction near none of the cube's, and u lies in the surface.
+struct ThinLayers : ::testing::Test {
+  const V m = V(3, 7, 15).normalized();  // (at least 0.168 from every cube direction's plane)
+  const V u = m.unitOrthogonal();
+  void SetUp() override {
+    // (no cube direction lies within 1e-2 rad of the surface's plane, so none enters a layer of
+    // half width 1e-4 eps at radius eps, nor one 1e-3 eps off the surface)
+    for (const V& d : cubeDirections()) ASSERT_GT(std::abs(m.dot(d)), 1e-2);
+  }
+};
+
+// A crack of the outside, 2e-4 eps wide, along the surface from x: found along the surface.
+TEST_F(ThinLayers, CrackAlongTheSurfaceIsFoundAlongIt) {
+  const auto inside = [&](const V& q) { return !(std::abs(m.dot(q)) < 1e-4 * kEps && u.dot(q) > 0); };
+  steady::sweep::detail::SurfaceProbes probes;
+  EXPECT_EQ(depthBound(V::Zero(), kEps, kDelta, inside, probes), kInf);
+  probes.tangents = {-u, u};
+  EXPECT_EQ(depthBound(V::Zero(), kEps, kDelta, inside, probes), kEps);
+}
+
+// A wedge of the outside between two faces that meet at x (half angle 1e-2 rad, opening along
+// u): found just off a face, a little way into it, not along the face's normal from x.
+TEST_F(ThinLayers, WedgeEndingAtTheVertexIsFoundJustOffItsFace) {
+  const auto inside = [&](const V& q) { return !(u.dot(q) > 0 && std::abs(m.dot(q)) < 1e-2 * u.dot(q)); };
+  steady::sweep::detail::SurfaceProbes probes;
+  probes.normals = {m, -m};
+  EXPECT_EQ(depthBound(V::Zero(), kEps, kDelta, inside, probes), kInf);
+  probes.faces = {{{u, m}}};
+  EXPECT_EQ(depthBound(V::Zero(), kEps, kDelta, inside, probes), kEps);
+}
+
+// A layer of the outside 1e-3 eps beside the surface and 1e-3 eps thick: crossed along the
+// normal at a radius halved 9 times, skipped at the claims' own radii.
+TEST_F(ThinLayers, LayerBesideTheSurfaceIsCrossedAtFineRadii) {
+  const auto inside = [&](const V& q) { return !(m.dot(q) > 1e-3 * kEps && m.dot(q) < 2e-3 * kEps); };
+  steady::sweep::detail::SurfaceProbes probes;
+  probes.normals = {-m, m};
+  EXPECT_EQ(depthBound(V::Zero(), kEps, kDelta, inside, probes), kEps);
+  probes.normals = {};
+  EXPECT_EQ(depthBound(V::Zero(), kEps, kDelta, inside, probes), kInf);
 }
 
 // Seeded property: for random half-spaces and balls, and random points near their boundary,
