@@ -14,7 +14,7 @@
 //   --dense          denser checks (480 posed points, 400 envelope vertices, 300 cross points)
 //   --all-vertices   also every envelope vertex against the true boundary, not only a sample:
 //                    against the posed bodies (checkVerticesInBox) and, for the vertices inside
-//                    the swept volume, across its boundary (checkAcrossInBox)
+//                    the swept volume, across its boundary (checkAcross)
 //   --repro-dir DIR  for each failing case, its motion (a motion file, every key pose at full
 //                    precision) and its mesh (OFF) in DIR, for the steady CLI or --case
 //   --log FILE       append each case's lines to FILE too (one write per case: several
@@ -46,6 +46,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <numeric>
 #include <chrono>
 #include <cstdarg>
 #include <cstdint>
@@ -387,16 +388,26 @@ std::string runCase(const Case& c, long index, const Options& opt) {
       checkEnvelope(mesh, motion, env, epsOf(mesh, c.rel), check_rng, name, co, &st);
       std::string notes;
       bool voids = false;
-      // The vertices of kept walls that the envelope's own certificate leaves uncertified within
-      // eps, against the oracle across the boundary of the swept volume: one the oracle finds
-      // with no outside point within T fails the case.
+      const MovingBody mb(mesh, motion);
+      // Across the boundary of the swept volume (checkAcross): the vertices of kept walls that
+      // the envelope's own certificate leaves uncertified within eps, or with --all-vertices every
+      // vertex (a superset, so each is checked once); one that the oracle finds inside with no
+      // outside point within T fails the case.
+      std::vector<int> across_which = env.kept_wall_uncertified;
+      if (opt.all_vertices) {
+        across_which.resize(env.vertices.size());
+        std::iota(across_which.begin(), across_which.end(), 0);
+      }
+      const AcrossCheck across = checkAcross(env, mb, across_which);
+      for (std::size_t k = 0; k < across.deep.size() && k < static_cast<std::size_t>(kMaxMessages); ++k)
+        ADD_FAILURE() << "envelope vertex " << across.deep[k] << " at " << env.vertices[across.deep[k]].transpose()
+                      << " is inside the swept volume with no point outside it within 1.01 eps";
       if (!env.kept_wall_uncertified.empty()) {
-        const AcrossCheck a = checkAcross(env, MovingBody(mesh, motion), env.kept_wall_uncertified);
-        for (std::size_t k = 0; k < a.deep.size() && k < static_cast<std::size_t>(kMaxMessages); ++k)
-          ADD_FAILURE() << "envelope vertex " << a.deep[k] << " at " << env.vertices[a.deep[k]].transpose()
-                        << " (on a kept wall, not certified) is inside the swept volume with no point outside within 1.01 eps";
-        notes += format(" | uncertified %zu: %zu deep, %d undecided", env.kept_wall_uncertified.size(), a.deep.size(),
-                        a.undecided);
+        const auto listed = static_cast<std::size_t>(std::count_if(across.deep.begin(), across.deep.end(), [&](int v) {
+          return std::binary_search(env.kept_wall_uncertified.begin(), env.kept_wall_uncertified.end(), v);
+        }));
+        notes += format(" | uncertified %zu: %zu deep", env.kept_wall_uncertified.size(), listed) +
+                 (opt.all_vertices ? std::string() : format(", %d undecided", across.undecided));
       }
       if (env.check.shells > 1 && env.check.closed) {
         std::string summary;
@@ -407,17 +418,11 @@ std::string runCase(const Case& c, long index, const Options& opt) {
       }
       if (opt.all_vertices) {
         const V far = V::Constant(std::numeric_limits<double>::infinity());
-        const MovingBody mb(mesh, motion);
         const NearCheck n = checkVerticesInBox(env, mb, -far, far);
-        notes += format(" | all %d vertices: %d off the true boundary, %d undecided, worst %.3f eps", n.checked,
-                        n.failed, n.undecided, n.worst);
-        // The same vertices against the boundary of the swept volume itself (checkAcrossInBox).
-        const AcrossCheck a = checkAcrossInBox(env, mb, -far, far);
-        for (std::size_t k = 0; k < a.deep.size() && k < static_cast<std::size_t>(kMaxMessages); ++k)
-          ADD_FAILURE() << "envelope vertex " << a.deep[k] << " at " << env.vertices[a.deep[k]].transpose()
-                        << " is inside the swept volume with no point outside it within 1.01 eps";
-        notes += format(", %d inside the swept volume: %zu with no outside point within T, %d undecided", a.inside,
-                        a.deep.size(), a.undecided);
+        notes += format(" | all %d vertices: %d off the true boundary, %d undecided, worst %.3f eps; %d inside the "
+                        "swept volume: %zu with no outside point within T, %d undecided",
+                        n.checked, n.failed, n.undecided, n.worst, across.inside, across.deep.size(),
+                        across.undecided);
       }
       const double t_check = seconds() - t1;
       // A VOID fails only the shell count: checkEnvelope's mc.shells and env.check.shells above.
@@ -429,7 +434,8 @@ std::string runCase(const Case& c, long index, const Options& opt) {
       head += format(" | sweep %.3fs check %.2fs | tri %zu V %.6g A %.6g | check: closed %d manifold %d "
                      "oriented %d selfint %ld degenerate %ld shells %d vol %.6g | out<=%.3feps (%d/%d) "
                      "bnd<=%.3feps (%d/%d, undec %d) cross %d/%d | buried %zu crack %zu mouths %zu thincav %zu "
-                     "thinsol %zu pinch %zu/%zu merged %zu retries %zu | kept %zu/%zu walls, %zu vertices, %zu uncertified, bound %.3g eps",
+                     "thinsol %zu pinch %zu/%zu merged %zu retries %zu | kept %zu/%zu walls, %zu vertices, %zu "
+                     "uncertified, bound %.3g eps",
                      t_sweep, t_check, env.triangles.size(), env.volume, env.area, env.check.closed, env.check.manifold,
                      env.check.oriented, env.check.self_intersections, env.check.degenerate_faces, env.check.shells,
                      env.check.volume, st.worst_outside, st.containment_failed, st.containment_checked,
