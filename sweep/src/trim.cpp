@@ -2968,7 +2968,9 @@ constexpr int kFlapPasses = 4;
 // crossed only by faces of its own rim, folded over the mouth like flaps but with a corner
 // off the loop. The faces that its last filling crosses and whose corners all lie within this
 // many tessellation tolerances of the loop are reported (`rim`, when the caller passes one)
-// instead of the loop: the caller leaves them out and tries again, so the mouth grows by them,
+// instead of the loop; for a loop left with no filling at all (the fan's apex too far from a
+// long, wide loop), the faces that any of its fillings crossed (CGAL's, each of the refill's
+// searches). The caller leaves them out and tries again, so the mouth grows by them,
 // rather than keeping the buried patches or crack walls at the loop, which may lie deep inside
 // the swept volume. The filling that closes the grown mouth replaces faces within this reach
 // of its rim. The stress campaign's UV sphere on an affine span (case 7) kept a buried patch
@@ -2976,7 +2978,13 @@ constexpr int kFlapPasses = 4;
 // kept crack faces and buried patches: elephant 1,499 and 195 -> 1,466 and 195, knot1 2,970
 // and 128 -> 2,550 and 106, armadillo 2,141 and 783 -> 1,976 and 728, bunny00 969 and 994 ->
 // 580 and 759. Left out in every round, rims kept growing on bunny00's screw until every
-// patch was kept (25,178 crack faces); hence kRimRounds, and rims that come back.
+// patch was kept (25,178 crack faces); hence kRimRounds, and rims that come back. A loop with no
+// filling had no rim before: a convex body's affine span (campaign case 1342) kept crack walls
+// 1.78 eps deep at a loop of 12 points, 30 eps by 10, whose fillings all crossed faces folded
+// over it (test MouthWhoseFillingsAllCrossItsRimCloses), and the campaign's cases 2509 (CGAL
+// sphere) and 2819 (bracket) kept walls the certificate could not bound within eps. Taking the
+// rim from all fillings for every bad loop, not only for those with no filling, left 12 vertices
+// of bunny00's screw uncertified (bound 8 eps).
 constexpr double kRimReach = 1.5;
 // Selection rounds that may leave rims out (the first ones; later rounds keep the patches at
 // every bad loop, so that the rounds end).
@@ -3189,6 +3197,9 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
   // `fresh` flags the loops filled since the last check, and `crosses_surface` keeps the
   // others' results.
   std::vector<char> crosses_surface(loops.size(), 0);
+  // Per loop: the surface faces that any of its fillings crossed (CGAL's, the refill's searches,
+  // the fan), the candidates for its rim (see Rims).
+  std::vector<std::vector<int>> hits(loops.size()), last_hits(loops.size());
   std::vector<std::pair<int, int>> fill_crossings;  // pairs of loops whose filling faces cross
   auto badLoops = [&](const std::vector<char>& fresh) {
     std::vector<char> bad(loops.size(), 0);
@@ -3206,18 +3217,25 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
         const EdgeUse a = useOf(surface_use, key), b = useOf(added_use, key);
         if (a.faces + b.faces != 2 || a.net + b.net != 0) bad[loop_of[f]] = 1;
       }
-    std::vector<char> crossing(added.size(), 0);  // (per face: the faces run in parallel)
+    std::vector<std::vector<int>> crossed(added.size());  // (per face: the faces run in parallel)
     parallelFor(0, added.size(), threads, [&](std::size_t f) {
       const int l = loop_of[f];
       if (bad[l] || !fresh[static_cast<std::size_t>(l)]) return;  // (read only here)
       const Tri& t = added[f];
       const Vec lo = V[t[0]].cwiseMin(V[t[1]]).cwiseMin(V[t[2]]), hi = V[t[0]].cwiseMax(V[t[1]]).cwiseMax(V[t[2]]);
-      surface.overlappingUntil(lo, hi, [&](int g) { return !(crossing[f] = crosses(P, t, T[g])); });
+      surface.overlapping(lo, hi, [&](int g) {
+        if (crosses(P, t, T[g])) crossed[f].push_back(g);
+      });
     });
     for (std::size_t l = 0; l < loops.size(); ++l)
-      if (fresh[l]) crosses_surface[l] = 0;
-    for (std::size_t f = 0; f < added.size(); ++f)
-      if (crossing[f]) crosses_surface[static_cast<std::size_t>(loop_of[f])] = 1;
+      if (fresh[l]) crosses_surface[l] = 0, last_hits[l].clear();
+    for (std::size_t f = 0; f < added.size(); ++f) {
+      if (crossed[f].empty()) continue;
+      const auto l = static_cast<std::size_t>(loop_of[f]);
+      crosses_surface[l] = 1;
+      hits[l].insert(hits[l].end(), crossed[f].begin(), crossed[f].end());
+      last_hits[l].insert(last_hits[l].end(), crossed[f].begin(), crossed[f].end());
+    }
     for (std::size_t l = 0; l < loops.size(); ++l)
       if (crosses_surface[l]) bad[l] = 1;
     // Filling faces that cross each other: the pairs of loops found before whose fillings are
@@ -3317,7 +3335,11 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
         const Tri t{{loop[x[0]], loop[x[2]], loop[x[1]]}};
         const Vec lo = V[t[0]].cwiseMin(V[t[1]]).cwiseMin(V[t[2]]), hi = V[t[0]].cwiseMax(V[t[1]]).cwiseMax(V[t[2]]);
         bool hit = false;
-        surface.overlappingUntil(lo, hi, [&](int g) { return !(hit = crosses(P, t, T[g])); });
+        surface.overlappingUntil(lo, hi, [&](int g) {
+          hit = crosses(P, t, T[g]);
+          if (hit) hits[l].push_back(g);
+          return !hit;
+        });
         if (hit) excluded.insert(x), crossing = true;
       }
       if (crossing) continue;
@@ -3380,10 +3402,14 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
       }
   }
   if (again) bad = badLoops(fresh);
-  // The rims of the loops whose filling crosses the surface (see Rims).
+  // The rims of the loops whose last filling crosses the surface, or that have no filling (see
+  // Rims).
   std::vector<char> has_rim(loops.size(), 0);
   for (std::size_t l = 0; rim && l < loops.size(); ++l) {
-    if (!bad[l] || !crosses_surface[l] || fill[l].empty()) continue;
+    if (!bad[l]) continue;
+    if (!fill[l].empty() && !crosses_surface[l]) continue;
+    std::vector<int>& candidates = fill[l].empty() ? hits[l] : last_hits[l];
+    if (candidates.empty()) continue;
     const std::vector<int>& loop = loops[l];
     auto nearLoop = [&](int v) {
       for (std::size_t i = 0; i < loop.size(); ++i) {
@@ -3395,15 +3421,11 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
       }
       return false;
     };
-    for (const Tri& t : fill[l]) {
-      const Vec lo = V[t[0]].cwiseMin(V[t[1]]).cwiseMin(V[t[2]]), hi = V[t[0]].cwiseMax(V[t[1]]).cwiseMax(V[t[2]]);
-      surface.overlapping(lo, hi, [&](int g) {
-        const Tri& u = T[static_cast<std::size_t>(g)];
-        if (crosses(P, t, u) && nearLoop(u[0]) && nearLoop(u[1]) && nearLoop(u[2])) {
-          rim->push_back(u);
-          has_rim[l] = 1;
-        }
-      });
+    std::sort(candidates.begin(), candidates.end());
+    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    for (const int g : candidates) {
+      const Tri& u = T[static_cast<std::size_t>(g)];
+      if (nearLoop(u[0]) && nearLoop(u[1]) && nearLoop(u[2])) rim->push_back(u), has_rim[l] = 1;
     }
   }
   // Every loop that still cannot be filled is reported at once (or its rim).

@@ -755,15 +755,16 @@ TEST(Envelope, CrackRegionsAreKeptByPiecesNearTheirFailedMouths) {
 }
 
 // The stress campaign's random convex body on a general affine span (case 1342, tolerance
-// 1e-3): a crack mouth that no filling closes keeps walls whose output vertices lie up to 1.78
-// eps inside the body posed at tau 0.72, beyond T = 1.01 eps of the true boundary. The envelope
-// does not hide it: its own certificate (Envelope::kept_wall_depth_bound, the exact inside test
-// probing across the boundary) lists every such vertex. Checked against the certified oracle in
-// a box of 50 eps about the deepest vertex: each vertex with no outside point within T
-// (checkAcross) is in Envelope::kept_wall_uncertified, and when some vertex is deeper than T in
-// a posed body (checkVerticesInBox) the list is not empty. Until the mouth is closed, the
-// oracle's failures are expected here; when none is left, the test still holds.
-TEST(Envelope, DeepKeptWallsAreReported) {
+// 1e-3): a crack mouth of 12 points, about 30 eps long and 10 eps wide, that no filling closed.
+// CGAL's and the refill's triangulations all crossed faces folded over the mouth (corners on the
+// loop and up to 1.2 eps off it), and the fan's apex, the loop's mean, lay farther than kFanReach
+// from the loop, so the loop was left with no filling at all and its rim was never looked for:
+// the rounds kept the crack walls, whose output vertices lay up to 1.78 eps inside the body
+// posed at tau 0.72 (listed by the envelope as uncertified). A loop left with no filling now takes
+// its rim from the faces that any of its fillings crossed. Checked against the certified oracle
+// in a box of 50 eps about the formerly deepest vertex: every vertex is within T = 1.01 eps of the
+// true boundary, and the envelope keeps no wall there that its certificate leaves uncertified.
+TEST(Envelope, MouthWhoseFillingsAllCrossItsRimCloses) {
   std::mt19937_64 rng(29003831ull ^ 0x9E3779B97F4A7C15ull);  // (as the campaign draws it)
   const Mesh m = randomConvex(rng, 10 + static_cast<int>(rng() % 7));
   ASSERT_EQ(m.f.size(), 16u);
@@ -776,33 +777,51 @@ TEST(Envelope, DeepKeptWallsAreReported) {
       0.85651783992389297, 0.2686070055235511, -0.085821089876590262, 0.11310213078355374;
   const Motion3 motion = single(Affine3::fromMatrix(b), Affine3::fromMatrix(c));
   const Envelope env = sweep(m, motion, 1e-3);
+  EXPECT_GT(env.mouth_rim_faces_removed, 0u);
+  EXPECT_TRUE(env.kept_wall_uncertified.empty()) << env.kept_wall_uncertified.size() << " kept-wall vertices not certified";
+  expectCrackMouthClosed(env, m, motion, V(0.56262003301811003, -0.46592578517088085, 0.3234162597455737),
+                         "convex affine mouth closed through its rim");
+}
+
+// The stress campaign's torus on a polySAM of three poses (case 604, tolerance 1e-3): mouths of
+// about 40 points that no filling closes, crossed by faces up to 40 eps from them (not a rim),
+// so walls are kept there. The envelope does not hide them: its own certificate
+// (Envelope::kept_wall_depth_bound, the exact inside test probing across the boundary) lists
+// every output vertex it cannot certify within eps. Checked against the certified oracle in a box
+// of 50 eps about one of them: each vertex with no outside point within T = 1.01 eps (checkAcross,
+// random directions) is in Envelope::kept_wall_uncertified. (These vertices lie within about
+// 1 eps of cracks of outside space so thin that neither probe set meets them reliably; when the
+// mouths close, the test still holds.)
+TEST(Envelope, DeepKeptWallsAreReported) {
+  const Mesh m = torus(0.7, 0.25, 12, 6);
+  Eigen::Matrix<double, 3, 4> p0, p1, p2;
+  p0 << 0.89070993109068142, -0.0089455110116924332, 0.45448409926990102, 0.19139562122889719,  //
+      0.018014312820796637, 0.99971558865232435, -0.01562774261149643, 0.17863624554840629,      //
+      -0.45421504069111146, 0.022107004280914881, 0.89061775031249835, -0.069249736453529054;
+  p1 << 0.48828179539616368, -0.048032828867323539, 0.87530771844670074, 1.4519383189336805,  //
+      0.28675876951633011, 0.59441105922395321, 0.22521647432941871, 0.56162414623465751,      //
+      -0.50470654882119947, -0.099475694717672702, 0.59842643776913362, -0.48665483745297949;
+  p2 << 1.1331034251949794, 0.33864176084322806, 1.9744249456395175, 4.214478439210767,  //
+      -0.30477399644273451, 0.19725815105764827, -0.75893216506763217, -1.2960883589048533,  //
+      -0.094672181046677795, 0.092283179473092447, 0.59188922233285557, 0.01289957063117611;
+  const Motion3 motion = Motion3::polySam(
+      std::vector<Affine3>{Affine3::fromMatrix(p0), Affine3::fromMatrix(p1), Affine3::fromMatrix(p2)});
+  const Envelope env = sweep(m, motion, 1e-3);
   expectOneEmbeddedShell(env);
-  const V deep(0.56262003301811003, -0.46592578517088085, 0.3234162597455737);
+  ASSERT_FALSE(env.kept_wall_uncertified.empty()) << "nothing left to report here: pick another case";
+  EXPECT_GT(env.kept_wall_depth_bound, env.tolerance);
+  const V center = env.vertices[static_cast<std::size_t>(env.kept_wall_uncertified.front())];
   const V reach = V::Constant(50 * env.tolerance);
   const MovingBody mb(m, motion);
-  ::testing::TestPartResultArray expected;  // (checkVerticesInBox reports each failure)
-  NearCheck n;
-  {
-    ::testing::ScopedFakeTestPartResultReporter capture(
-        ::testing::ScopedFakeTestPartResultReporter::INTERCEPT_ONLY_CURRENT_THREAD, &expected);
-    n = checkVerticesInBox(env, mb, deep - reach, deep + reach);
-  }
-  const AcrossCheck a = checkAcrossInBox(env, mb, deep - reach, deep + reach);
-  EXPECT_GE(n.checked, 30) << "the box no longer holds the vertices about the crack mouth";
+  const AcrossCheck a = checkAcrossInBox(env, mb, center - reach, center + reach);
+  EXPECT_GE(a.checked, 30) << "the box no longer holds the vertices about the kept walls";
   for (const int v : a.deep)
     EXPECT_TRUE(std::binary_search(env.kept_wall_uncertified.begin(), env.kept_wall_uncertified.end(), v))
         << "vertex " << v << " at " << env.vertices[v].transpose()
         << " has no outside point within T, and the envelope does not list it";
-  if (n.failed > 0) {
-    EXPECT_FALSE(env.kept_wall_uncertified.empty());
-  }
-  if (!env.kept_wall_uncertified.empty()) {
-    EXPECT_GT(env.kept_wall_depth_bound, env.tolerance);
-  }
-  std::printf("[ info     ] convex affine kept walls: %d vertices checked, %d deeper than T in a posed body (worst %.3f "
-              "eps), %zu without an outside point within T; the envelope lists %zu of %zu kept-wall vertices as not "
-              "certified within eps, bound %.3g eps\n",
-              n.checked, n.failed, n.worst, a.deep.size(), env.kept_wall_uncertified.size(), env.kept_wall_vertices,
+  std::printf("[ info     ] torus polySAM kept walls: %d vertices checked, %zu without an outside point within T; the "
+              "envelope lists %zu of %zu kept-wall vertices as not certified within eps, bound %.3g eps\n",
+              a.checked, a.deep.size(), env.kept_wall_uncertified.size(), env.kept_wall_vertices,
               env.kept_wall_depth_bound / env.tolerance);
 }
 
@@ -812,6 +831,10 @@ TEST(Envelope, DeepKeptWallsAreReported) {
 // walls left envelope vertices up to 14 eps inside the body posed later. Only the patches with
 // an edge on a mouth that fails are kept now (in the first rounds): around the former pocket
 // every envelope vertex is within T = 1.01 eps of the true boundary, and no buried patch is kept.
+// Since a loop with no filling takes its rim from all its fillings' crossings (see
+// MouthWhoseFillingsAllCrossItsRimCloses), the slit closes as well, and no crack wall is kept:
+// this case no longer exercises the rule for patches touching a failed mouth at a point, but
+// still checks the vertices about both mouths.
 TEST(Envelope, PocketTouchingAFailedMouthAtAPointIsLeftOut) {
 #ifndef STEADY_CGAL_MESHES
   GTEST_SKIP() << "CGAL's sample meshes (Debian libcgal-demo) were not found when the build was configured";
@@ -834,7 +857,7 @@ TEST(Envelope, PocketTouchingAFailedMouthAtAPointIsLeftOut) {
                                                                Affine3::fromMatrix(k2), Affine3::fromMatrix(k3)});
   const Envelope env = sweep(m, motion, 2e-3);
   EXPECT_EQ(env.buried_patches_kept, 0u);
-  EXPECT_GT(env.crack_faces_kept, 0u) << "the slit next to the pocket no longer fails: this test guards nothing";
+  EXPECT_EQ(env.crack_faces_kept, 0u);
   expectCrackMouthClosed(env, m, motion, V(-1.9488137768458405, 0.37802826517829513, 1.3893085382497807),
                          "CGAL sphere polySAM pocket");
 #endif
