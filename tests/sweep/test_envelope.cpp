@@ -783,9 +783,9 @@ TEST(Envelope, MouthWhoseFillingsAllCrossItsRimCloses) {
                          "convex affine mouth closed through its rim");
 }
 
-// The stress campaign's torus on a polySAM of three poses (case 604, tolerance 1e-3): mouths of
-// about 40 points that no filling closes, crossed by faces up to 40 eps from them (not a rim),
-// so walls are kept there. The envelope does not hide them: its own certificate
+// The stress campaign's torus on a polySAM of three poses (case 604, tolerance 1e-3): slit
+// mouths of about 40 points and hundreds of eps long that no filling closes (their fillings
+// cross faces of the true envelope 6 to 41 eps from the loop: not a rim), so walls are kept there. The envelope does not hide them: its own certificate
 // (Envelope::kept_wall_depth_bound, the exact inside test probing across the boundary) lists
 // every output vertex it cannot certify within eps. Checked against the certified oracle in a box
 // of 50 eps about one of them: each vertex with no outside point within T = 1.01 eps (checkAcross,
