@@ -778,20 +778,22 @@ TEST(Envelope, MouthWhoseFillingsAllCrossItsRimCloses) {
   const Motion3 motion = single(Affine3::fromMatrix(b), Affine3::fromMatrix(c));
   const Envelope env = sweep(m, motion, 1e-3);
   EXPECT_GT(env.mouth_rim_faces_removed, 0u);
-  EXPECT_TRUE(env.kept_wall_uncertified.empty()) << env.kept_wall_uncertified.size() << " kept-wall vertices not certified";
+  EXPECT_TRUE(env.kept_wall_uncertified.empty())
+      << env.kept_wall_uncertified.size() << " kept-wall vertices not certified";
   expectCrackMouthClosed(env, m, motion, V(0.56262003301811003, -0.46592578517088085, 0.3234162597455737),
                          "convex affine mouth closed through its rim");
 }
 
 // The stress campaign's torus on a polySAM of three poses (case 604, tolerance 1e-3): slit
 // mouths of about 40 points and hundreds of eps long that no filling closes (their fillings
-// cross faces of the true envelope 6 to 41 eps from the loop: not a rim), so walls are kept there. The envelope does not hide them: its own certificate
-// (Envelope::kept_wall_depth_bound, the exact inside test probing across the boundary) lists
-// every output vertex it cannot certify within eps. Checked against the certified oracle in a box
-// of 50 eps about one of them: each vertex with no outside point within T = 1.01 eps (checkAcross,
-// random directions) is in Envelope::kept_wall_uncertified. (These vertices lie within about
-// 1 eps of cracks of outside space so thin that neither probe set meets them reliably; when the
-// mouths close, the test still holds.)
+// cross faces of the true envelope 6 to 41 eps from the loop: not a rim), so walls are kept
+// there. The envelope does not hide them: its own certificate (Envelope::kept_wall_depth_bound,
+// the exact inside test probing across the boundary) lists every output vertex it cannot
+// certify within eps. Checked against the certified oracle in a box of 50 eps about one of
+// them: each vertex with no outside point within T = 1.01 eps (checkAcross, random directions)
+// is in Envelope::kept_wall_uncertified. (These vertices lie within about 1 eps of cracks of
+// outside space so thin that neither probe set meets them reliably. Once these mouths close,
+// the first assertion asks for another case with something to report.)
 TEST(Envelope, DeepKeptWallsAreReported) {
   const Mesh m = torus(0.7, 0.25, 12, 6);
   Eigen::Matrix<double, 3, 4> p0, p1, p2;
@@ -887,7 +889,8 @@ TEST(Envelope, PatchesTouchingAFailedMouthAtAPointAreLeftOutOnAScrew) {
       -0.075340428301977666, 0.93458361335864215, 0.34767411394117137, 0.2981535626758417;
   const Motion3 motion = single(Affine3::fromMatrix(b), Affine3::fromMatrix(c));
   const Envelope env = sweep(m, motion, 1e-3);
-  EXPECT_TRUE(env.kept_wall_uncertified.empty()) << env.kept_wall_uncertified.size() << " kept-wall vertices not certified";
+  EXPECT_TRUE(env.kept_wall_uncertified.empty())
+      << env.kept_wall_uncertified.size() << " kept-wall vertices not certified";
   expectCrackMouthClosed(env, m, motion, V(-0.13660465237222508, 0.33959445554237538, -0.030016727134602822),
                          "CGAL sphere screw, patches touching failed mouths");
 #endif
