@@ -3194,12 +3194,11 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
   // would make it non-manifold), or that crosses the rest of the surface or another filling
   // face (least-weight filling sees only its loop; exact predicates on the double coordinates,
   // as the output check uses). A loop's crossings with the surface are found once per filling:
-  // `fresh` flags the loops filled since the last check, and `crosses_surface` keeps the
-  // others' results.
-  std::vector<char> crosses_surface(loops.size(), 0);
-  // Per loop: the surface faces that any of its fillings crossed (CGAL's, the refill's searches,
-  // the fan), the candidates for its rim (see Rims).
-  std::vector<std::vector<int>> hits(loops.size()), last_hits(loops.size());
+  // `fresh` flags the loops filled since the last check, and `last_hits` keeps the others'
+  // results. Per loop: the surface faces that its filling crossed at its last check (none: it
+  // crosses nothing), and those that any of its fillings crossed (CGAL's, the refill's
+  // searches, the fan); both are candidates for its rim (see Rims).
+  std::vector<std::vector<int>> last_hits(loops.size()), hits(loops.size());
   std::vector<std::pair<int, int>> fill_crossings;  // pairs of loops whose filling faces cross
   auto badLoops = [&](const std::vector<char>& fresh) {
     std::vector<char> bad(loops.size(), 0);
@@ -3228,16 +3227,15 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
       });
     });
     for (std::size_t l = 0; l < loops.size(); ++l)
-      if (fresh[l]) crosses_surface[l] = 0, last_hits[l].clear();
+      if (fresh[l]) last_hits[l].clear();
     for (std::size_t f = 0; f < added.size(); ++f) {
       if (crossed[f].empty()) continue;
       const auto l = static_cast<std::size_t>(loop_of[f]);
-      crosses_surface[l] = 1;
       hits[l].insert(hits[l].end(), crossed[f].begin(), crossed[f].end());
       last_hits[l].insert(last_hits[l].end(), crossed[f].begin(), crossed[f].end());
     }
     for (std::size_t l = 0; l < loops.size(); ++l)
-      if (crosses_surface[l]) bad[l] = 1;
+      if (!last_hits[l].empty()) bad[l] = 1;
     // Filling faces that cross each other: the pairs of loops found before whose fillings are
     // both unchanged stand; the fresh fillings' faces are tested against every filling face.
     // (On bunny00's screw at 1e-3 the second and third checks of a round tested every pair
@@ -3407,7 +3405,7 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
   std::vector<char> has_rim(loops.size(), 0);
   for (std::size_t l = 0; rim && l < loops.size(); ++l) {
     if (!bad[l]) continue;
-    if (!fill[l].empty() && !crosses_surface[l]) continue;
+    if (!fill[l].empty() && last_hits[l].empty()) continue;
     std::vector<int>& candidates = fill[l].empty() ? hits[l] : last_hits[l];
     if (candidates.empty()) continue;
     const std::vector<int>& loop = loops[l];
