@@ -3489,11 +3489,12 @@ DepthBound surfaceDepths(const std::vector<Vec>& V, const std::vector<Tri>& T, c
       vertex_normal[i] += n;
       detail::SurfaceProbes& p = probes[i];
       const Vec e = V[t[(k + 1) % 3]] - V[t[k]], into = centroid - V[t[k]];
+      const Vec back = V[t[(k + 2) % 3]] - V[t[k]];
       if (e.norm() > 0) p.tangents.push_back(e.normalized());
-      if (n.norm() > 0 && into.norm() > 0) {
+      if (n.norm() > 0 && into.norm() > 0 && back.norm() > 0 && e.norm() > 0) {
         p.normals.push_back(n.normalized());
         p.normals.push_back(-n.normalized());
-        p.faces.push_back({{into.normalized(), n.normalized()}});
+        p.faces.push_back({into.normalized(), e.normalized(), back.normalized(), n.normalized()});
       }
     }
   }
@@ -3511,7 +3512,7 @@ DepthBound surfaceDepths(const std::vector<Vec>& V, const std::vector<Tri>& T, c
       p.normals.insert(p.normals.begin(), {n, -n});
       circle(n);
     }
-    for (const auto& f : p.faces) circle(f[1]);
+    for (const auto& f : p.faces) circle(f.normal);
     bound[i] = detail::depthBound(V[static_cast<std::size_t>(which[i])], eps, delta, inside_swept, p);
   });
   for (std::size_t i = 0; i < which.size(); ++i) {

@@ -233,9 +233,13 @@ inline NearCheck checkVerticesInBox(const steady::sweep::Envelope& env, const Mo
 // the faces, edges and corners of a cube at radius T (1 - 1e-3); then just off each face at the
 // vertex (x + a t +- b n, t the direction into the face, n its normal, a = T/2, T/4, T/8,
 // b = T 2^-j for j = 3 .. 12), where a thin crack of outside space ending at the vertex opens;
-// then 256 seeded random directions at T (1 - 1e-3) and T/2. `deep` lists the vertices whose
-// every probe the oracle certifies inside; `undecided` counts those with some probe it could
-// not decide and none outside.
+// then 256 seeded random directions at T (1 - 1e-3) and T/2; last, just off each face again,
+// with t also along 7 directions spread between the face's edges at the vertex, a also
+// T (1 - 1e-3) - b, and b at half octaves (T 2^-j/2, j = 6 .. 24): the thin cracks beside
+// the walls of campaign cases 604 and 4214 lie over part of a face's angle only, and within
+// hundredths of eps of its plane. `deep` lists the vertices whose every probe the oracle
+// certifies inside; `undecided` counts those with some probe it could not decide and none
+// outside.
 struct AcrossCheck {
   int checked = 0, inside = 0, undecided = 0;
   std::vector<int> deep;
@@ -243,16 +247,20 @@ struct AcrossCheck {
 inline AcrossCheck checkAcross(const steady::sweep::Envelope& env, const MovingBody& mb, const std::vector<int>& which) {
   const double T = env.tolerance * 1.01;
   std::vector<V> normal(env.vertices.size(), V::Zero());
-  std::vector<std::vector<std::array<V, 2>>> faces(env.vertices.size());
+  // (per vertex and face at it: the direction to the centroid, the normal and the two edges)
+  std::vector<std::vector<std::array<V, 4>>> faces(env.vertices.size());
   std::vector<char> wanted(env.vertices.size(), 0);
   for (const int i : which) wanted[static_cast<std::size_t>(i)] = 1;
   for (const auto& t : env.triangles) {
     const V n = (env.vertices[t[1]] - env.vertices[t[0]]).cross(env.vertices[t[2]] - env.vertices[t[0]]);
     const V centroid = (env.vertices[t[0]] + env.vertices[t[1]] + env.vertices[t[2]]) / 3.0;
-    for (const int v : t) {
+    for (int k = 0; k < 3; ++k) {
+      const int v = t[k];
       normal[v] += n;
       const V into = centroid - env.vertices[v];
-      if (wanted[v] && n.norm() > 0 && into.norm() > 0) faces[v].push_back({{into.normalized(), n.normalized()}});
+      const V ea = env.vertices[t[(k + 1) % 3]] - env.vertices[v], eb = env.vertices[t[(k + 2) % 3]] - env.vertices[v];
+      if (wanted[v] && n.norm() > 0 && into.norm() > 0 && ea.norm() > 0 && eb.norm() > 0)
+        faces[v].push_back({{into.normalized(), n.normalized(), ea.normalized(), eb.normalized()}});
     }
   }
   std::vector<V> dirs;
@@ -283,11 +291,22 @@ inline AcrossCheck checkAcross(const steady::sweep::Envelope& env, const MovingB
     const double r = T * (1 - 1e-3);
     if (normal[i].norm() > 0) probes.push_back(x + r * normal[i].normalized());
     for (const V& d : dirs) probes.push_back(x + r * d);
-    for (const auto& [t, n] : faces[i])
+    for (const auto& f : faces[i])
       for (int a = 1; a <= 3; ++a)
         for (int j = 3; j <= 12; ++j)
-          for (const double sign : {1.0, -1.0}) probes.push_back(x + std::ldexp(T, -a) * t + sign * std::ldexp(T, -j) * n);
+          for (const double sign : {1.0, -1.0})
+            probes.push_back(x + std::ldexp(T, -a) * f[0] + sign * std::ldexp(T, -j) * f[1]);
     for (const V& d : random_dirs) probes.push_back(x + r * d), probes.push_back(x + 0.5 * T * d);
+    for (const auto& f : faces[i])
+      for (int k = 0; k < 8; ++k) {
+        const V t = k == 0 ? f[0] : V(((8 - k) * f[2] + k * f[3]).normalized());
+        for (int a = 0; a <= 3; ++a)
+          for (int j = 6; j <= 24; ++j) {
+            const double b = T * std::exp2(-0.5 * j);
+            const double along = a == 0 ? r - b : std::ldexp(T, -a);
+            for (const double sign : {1.0, -1.0}) probes.push_back(x + along * t + sign * b * f[1]);
+          }
+      }
     bool across = false, unsure = false;
     for (const V& q : probes) {
       const int s = side(q);

@@ -150,7 +150,28 @@ TEST_F(ThinLayers, WedgeEndingAtTheVertexIsFoundJustOffItsFace) {
   steady::sweep::detail::SurfaceProbes probes;
   probes.normals = {m, -m};
   EXPECT_EQ(depthBound(V::Zero(), kEps, kDelta, inside, probes), kInf);
-  probes.faces = {{{u, m}}};
+  const V w = m.cross(u);  // (the face's edges at x lie 30 degrees either side of u)
+  probes.faces = {{u, std::cos(0.5236) * u + std::sin(0.5236) * w, std::cos(0.5236) * u - std::sin(0.5236) * w, m}};
+  EXPECT_EQ(depthBound(V::Zero(), kEps, kDelta, inside, probes), kEps);
+}
+
+// A layer of the outside over part of a face's angle at x (44 to 56 degrees from one edge of a
+// face whose angle is 80 degrees, its centroid 10 degrees from that edge), from 0.7 eps out,
+// rising from 0.011 to 0.014 of the distance above the face's plane (the thin cracks beside the
+// kept walls of campaign cases 604 and 4214): found just off the face in a direction between
+// its edges, nearly at the full radius, with offsets at half octaves; not towards the centroid.
+TEST_F(ThinLayers, LayerOverPartOfAFaceIsFoundBetweenItsEdges) {
+  const V w = m.cross(u);
+  auto at = [&](double degrees) { return V(std::cos(degrees * M_PI / 180) * u + std::sin(degrees * M_PI / 180) * w); };
+  const auto inside = [&](const V& q) {
+    const double r = q.norm(), angle = std::atan2(w.dot(q), u.dot(q)) * 180 / M_PI, rise = m.dot(q) / r;
+    return !(r > 0.7 * kEps && angle > 44 && angle < 56 && rise > 0.011 && rise < 0.014);
+  };
+  steady::sweep::detail::SurfaceProbes probes;
+  probes.normals = {m, -m};
+  probes.faces = {{at(10), at(10), at(10), m}};  // (towards the centroid only)
+  EXPECT_EQ(depthBound(V::Zero(), kEps, kDelta, inside, probes), kInf);
+  probes.faces = {{at(10), at(0), at(80), m}};
   EXPECT_EQ(depthBound(V::Zero(), kEps, kDelta, inside, probes), kEps);
 }
 

@@ -787,14 +787,16 @@ TEST(Envelope, MouthWhoseFillingsAllCrossItsRimCloses) {
 // The stress campaign's torus on a polySAM of three poses (case 604, tolerance 1e-3): slit
 // mouths of about 40 points and hundreds of eps long that no filling closes (their fillings
 // cross faces of the true envelope 6 to 41 eps from the loop: not a rim), so walls are kept
-// there. The envelope does not hide them: its own certificate (Envelope::kept_wall_depth_bound,
-// the exact inside test probing across the boundary) lists every output vertex it cannot
-// certify within eps. Checked against the certified oracle in a box of 50 eps about one of
-// them: each vertex with no outside point within T = 1.01 eps (checkAcross, random directions)
-// is in Envelope::kept_wall_uncertified. (These vertices lie within about 1 eps of cracks of
-// outside space so thin that neither probe set meets them reliably. Once these mouths close,
-// the first assertion asks for another case with something to report.)
-TEST(Envelope, DeepKeptWallsAreReported) {
+// there. Beside those walls lie layers of outside space a few hundredths of eps thick, over
+// part of a face's angle at a vertex, which 1 to 20 of 20,000 random directions meet: the
+// kept-wall vertices lie within eps of the true boundary, and the envelope's own certificate
+// (Envelope::kept_wall_depth_bound, the exact inside test probing across the boundary) must
+// say so. It listed 9 of them as uncertified (bound over 8 eps) while it probed just off each
+// face towards its centroid only; it now probes between the face's edges too (depth_bound.hpp).
+// Checked against the certified oracle as well, in a box of 50 eps about the vertex that the
+// fewest directions clear (none of 20,000 at 0.98 eps): every vertex inside the swept volume
+// has a point outside within T = 1.01 eps (checkAcross, whose probes include the same kind).
+TEST(Envelope, KeptWallsBesideThinOutsideLayersAreCertified) {
   const Mesh m = torus(0.7, 0.25, 12, 6);
   Eigen::Matrix<double, 3, 4> p0, p1, p2;
   p0 << 0.89070993109068142, -0.0089455110116924332, 0.45448409926990102, 0.19139562122889719,  //
@@ -810,21 +812,22 @@ TEST(Envelope, DeepKeptWallsAreReported) {
       std::vector<Affine3>{Affine3::fromMatrix(p0), Affine3::fromMatrix(p1), Affine3::fromMatrix(p2)});
   const Envelope env = sweep(m, motion, 1e-3);
   expectOneEmbeddedShell(env);
-  ASSERT_FALSE(env.kept_wall_uncertified.empty()) << "nothing left to report here: pick another case";
-  EXPECT_GT(env.kept_wall_depth_bound, env.tolerance);
-  const V center = env.vertices[static_cast<std::size_t>(env.kept_wall_uncertified.front())];
+  EXPECT_GT(env.kept_wall_vertices, 0u) << "no wall is kept here any more: pick another case";
+  EXPECT_TRUE(env.kept_wall_uncertified.empty())
+      << env.kept_wall_uncertified.size() << " kept-wall vertices not certified within eps";
+  EXPECT_LE(env.kept_wall_depth_bound, env.tolerance);
+  const V center(2.392175798741099, -0.09082776517538249, -0.24973823446566681);
   const V reach = V::Constant(50 * env.tolerance);
   const MovingBody mb(m, motion);
   const AcrossCheck a = checkAcrossInBox(env, mb, center - reach, center + reach);
-  EXPECT_GE(a.checked, 30) << "the box no longer holds the vertices about the kept walls";
+  EXPECT_GE(a.checked, 20) << "the box no longer holds the vertices about the kept walls";
+  EXPECT_GE(a.inside, 10);
   for (const int v : a.deep)
-    EXPECT_TRUE(std::binary_search(env.kept_wall_uncertified.begin(), env.kept_wall_uncertified.end(), v))
-        << "vertex " << v << " at " << env.vertices[v].transpose()
-        << " has no outside point within T, and the envelope does not list it";
-  std::printf("[ info     ] torus polySAM kept walls: %d vertices checked, %zu without an outside point within T; the "
-              "envelope lists %zu of %zu kept-wall vertices as not certified within eps, bound %.3g eps\n",
-              a.checked, a.deep.size(), env.kept_wall_uncertified.size(), env.kept_wall_vertices,
-              env.kept_wall_depth_bound / env.tolerance);
+    ADD_FAILURE() << "vertex " << v << " at " << env.vertices[v].transpose()
+                  << " has no outside point within T";
+  std::printf("[ info     ] torus polySAM kept walls: %zu vertices, bound %.3g eps; in the box %d vertices checked, %d "
+              "inside the swept volume, %zu without an outside point within T\n",
+              env.kept_wall_vertices, env.kept_wall_depth_bound / env.tolerance, a.checked, a.inside, a.deep.size());
 }
 
 // The stress campaign's CGAL sphere on a polySAM of three spans (case 2959, tolerance 2e-3): a
