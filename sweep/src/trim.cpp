@@ -3491,7 +3491,7 @@ DepthBound surfaceDepths(const std::vector<Vec>& V, const std::vector<Tri>& T, c
       const Vec e = V[t[(k + 1) % 3]] - V[t[k]], into = centroid - V[t[k]];
       const Vec back = V[t[(k + 2) % 3]] - V[t[k]];
       if (e.norm() > 0) p.tangents.push_back(e.normalized());
-      if (n.norm() > 0 && into.norm() > 0 && back.norm() > 0 && e.norm() > 0) {
+      if (n.norm() > 0 && into.norm() > 0) {  // (then its edges are not zero either)
         p.normals.push_back(n.normalized());
         p.normals.push_back(-n.normalized());
         p.faces.push_back({into.normalized(), e.normalized(), back.normalized(), n.normalized()});

@@ -259,7 +259,7 @@ inline AcrossCheck checkAcross(const steady::sweep::Envelope& env, const MovingB
       normal[v] += n;
       const V into = centroid - env.vertices[v];
       const V ea = env.vertices[t[(k + 1) % 3]] - env.vertices[v], eb = env.vertices[t[(k + 2) % 3]] - env.vertices[v];
-      if (wanted[v] && n.norm() > 0 && into.norm() > 0 && ea.norm() > 0 && eb.norm() > 0)
+      if (wanted[v] && n.norm() > 0 && into.norm() > 0)  // (then ea and eb are not zero either)
         faces[v].push_back({{into.normalized(), n.normalized(), ea.normalized(), eb.normalized()}});
     }
   }

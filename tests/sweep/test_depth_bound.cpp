@@ -157,9 +157,10 @@ TEST_F(ThinLayers, WedgeEndingAtTheVertexIsFoundJustOffItsFace) {
 
 // A layer of the outside over part of a face's angle at x (44 to 56 degrees from one edge of a
 // face whose angle is 80 degrees, its centroid 10 degrees from that edge), from 0.7 eps out,
-// rising from 0.011 to 0.014 of the distance above the face's plane (the thin cracks beside the
-// kept walls of campaign cases 604 and 4214): found just off the face in a direction between
-// its edges, nearly at the full radius, with offsets at half octaves; not towards the centroid.
+// between 0.011 and 0.014 of the distance above the face's plane (like the thin cracks beside
+// the kept walls of campaign cases 604 and 4214): found just off the face in a direction
+// between its edges, nearly at the full radius, with offsets at half octaves (without any one
+// of the three it is missed); not towards the centroid.
 TEST_F(ThinLayers, LayerOverPartOfAFaceIsFoundBetweenItsEdges) {
   const V w = m.cross(u);
   auto at = [&](double degrees) { return V(std::cos(degrees * M_PI / 180) * u + std::sin(degrees * M_PI / 180) * w); };
