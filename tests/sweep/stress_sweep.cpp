@@ -15,7 +15,8 @@
 //   --all-vertices   also every envelope vertex against the true boundary, not only a sample:
 //                    against the posed bodies (checkVerticesInBox) and, for the vertices inside
 //                    the swept volume, across its boundary (checkAcross)
-//   --repro-dir DIR  for each failing case, its motion (a motion file, every key pose at full
+//   --repro-dir DIR  for each failing case, and each whose envelope lists kept-wall vertices it
+//                    could not certify, its motion (a motion file, every key pose at full
 //                    precision) and its mesh (OFF) in DIR, for the steady CLI or --case
 //   --log FILE       append each case's lines to FILE too (one write per case: several
 //                    processes may share the file)
@@ -347,6 +348,7 @@ std::string runCase(const Case& c, long index, const Options& opt) {
   // Every failure of the gtest assertions below (and in checkEnvelope) lands here, not in a test.
   ::testing::TestPartResultArray failures;
   std::string status, detail;
+  bool uncertified_listed = false;  // (the envelope lists kept-wall vertices it could not certify)
   {
     ::testing::ScopedFakeTestPartResultReporter capture(
         ::testing::ScopedFakeTestPartResultReporter::INTERCEPT_ONLY_CURRENT_THREAD, &failures);
@@ -368,6 +370,7 @@ std::string runCase(const Case& c, long index, const Options& opt) {
       status = "THROW";
       head += format(" | sweep %.3fs | %s", t_sweep, detail.c_str());
     } else {
+      uncertified_listed = !env.kept_wall_uncertified.empty();
       const double t1 = seconds();
       // The library's own check of its output, beside checkEnvelope's inspectMesh.
       EXPECT_TRUE(env.check.closed) << "env.check.closed";
@@ -456,8 +459,9 @@ std::string runCase(const Case& c, long index, const Options& opt) {
       const ::testing::TestPartResult& r = failures.GetTestPartResult(i);
       out += format("    ! %s:%d: %s\n", r.file_name() ? r.file_name() : "?", r.line_number(), r.message());
     }
-    if (!opt.repro_dir.empty()) out += writeReproduction(opt.repro_dir, c, mesh, motion);
   }
+  if ((status == "FAIL" || status == "THROW" || uncertified_listed) && !opt.repro_dir.empty())
+    out += writeReproduction(opt.repro_dir, c, mesh, motion);
   std::fputs(out.c_str(), stdout);
   std::fflush(stdout);
   if (!opt.log.empty()) appendToLog(opt.log, out);

@@ -9,6 +9,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -171,6 +172,26 @@ TEST_F(ThinLayers, LayerOverPartOfAFaceIsFoundBetweenItsEdges) {
   steady::sweep::detail::SurfaceProbes probes;
   probes.normals = {m, -m};
   probes.faces = {{at(10), at(10), at(10), m}};  // (towards the centroid only)
+  EXPECT_EQ(depthBound(V::Zero(), kEps, kDelta, inside, probes), kInf);
+  probes.faces = {{at(10), at(0), at(80), m}};
+  EXPECT_EQ(depthBound(V::Zero(), kEps, kDelta, inside, probes), kEps);
+}
+
+// A layer of the outside tilted 11 to 20 degrees off a face at x, over 20 to 60 degrees of its
+// angle there, from 0.6 eps out (like the outside beside a fin of three faces of campaign case
+// 8054, a star polySAM): found just off the face at offsets up to half the radius, which the
+// probes along the surface's normals, its tangents and the cube's directions all miss.
+TEST_F(ThinLayers, LayerTiltedOffAFaceIsFoundAtLargeOffsets) {
+  const V w = m.cross(u);
+  auto at = [&](double degrees) { return V(std::cos(degrees * M_PI / 180) * u + std::sin(degrees * M_PI / 180) * w); };
+  const auto inside = [&](const V& q) {
+    const double r = q.norm(), angle = std::atan2(w.dot(q), u.dot(q)) * 180 / M_PI;
+    const double tilt = std::asin(std::clamp(m.dot(q) / r, -1.0, 1.0)) * 180 / M_PI;
+    return !(r > 0.6 * kEps && angle > 20 && angle < 60 && tilt > 11 && tilt < 20);
+  };
+  steady::sweep::detail::SurfaceProbes probes;
+  probes.normals = {m, -m};
+  probes.tangents = {at(0), at(80)};
   EXPECT_EQ(depthBound(V::Zero(), kEps, kDelta, inside, probes), kInf);
   probes.faces = {{at(10), at(0), at(80), m}};
   EXPECT_EQ(depthBound(V::Zero(), kEps, kDelta, inside, probes), kEps);
