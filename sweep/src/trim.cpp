@@ -3294,7 +3294,8 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
           bad[static_cast<std::size_t>(a)] = bad[static_cast<std::size_t>(b)] = 1;
     return bad;
   };
-  // Per loop to be refilled: the filling faces it must not cross (see Crossing fillings).
+  // Per loop to be refilled: the filling faces it must neither cross nor share an edge with
+  // (see Crossing fillings).
   std::vector<std::vector<Tri>> avoid(loops.size());
   // Loop l filled again, avoiding what made its first filling bad: the best triangulation,
   // ranked like CGAL's search (least largest bend between neighbouring filling faces, then least
@@ -3405,13 +3406,18 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
   // left two vertices 1.0 to 1.05 eps deep, listed as uncertified. It keeps no wall now.)
   std::vector<char> keeps(loops.size(), 0);
   for (std::size_t l = 0; l < loops.size(); ++l) keeps[l] = bad[l] && !bad_alone[l];
-  for (const auto* pairs : {&fill_crossings, &fill_shared_edges})
-    for (const auto& [a, b] : *pairs) {
-      const auto lo = static_cast<std::size_t>(std::min(a, b)), hi = static_cast<std::size_t>(std::max(a, b));
-      if (bad_alone[lo] || bad_alone[hi]) continue;
+  {
+    std::set<std::pair<std::size_t, std::size_t>> partners;  // (lower, higher); a crossing pair comes once per face pair
+    for (const auto* pairs : {&fill_crossings, &fill_shared_edges})
+      for (const auto& [a, b] : *pairs) {
+        const auto lo = static_cast<std::size_t>(std::min(a, b)), hi = static_cast<std::size_t>(std::max(a, b));
+        if (!bad_alone[lo] && !bad_alone[hi]) partners.emplace(lo, hi);
+      }
+    for (const auto& [lo, hi] : partners) {
       keeps[hi] = 0;
       avoid[hi].insert(avoid[hi].end(), fill[lo].begin(), fill[lo].end());
     }
+  }
   bool again = false;
   for (std::size_t l = 0; l < loops.size(); ++l) {
     fresh[l] = bad[l] && !keeps[l] && loops[l].size() >= 3 && loops[l].size() <= kRefillPoints;
