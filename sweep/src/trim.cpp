@@ -2132,11 +2132,12 @@ std::array<std::size_t, 2> dropThinShells(std::vector<Tri>& T, double eps, const
 // solid wedge are paired (the solids are separated along the edge); for the edges in
 // `empty_wedges` the two faces of each empty wedge (the solids are joined, the empty wedges
 // separated). Returns, per face and edge k (T[f][k] -> T[f][k+1]), the partner face or -1 (a
-// manifold edge, or an order that does not alternate).
+// manifold edge, or an order that does not alternate). The edges are sorted on `threads`
+// threads (as SweepOptions::threads); the result does not depend on them.
 std::vector<std::array<int, 3>> pairAcrossEdges(const std::vector<Vec>& V, const std::vector<Tri>& T,
-                                                const std::set<std::uint64_t>& empty_wedges) {
+                                                const std::set<std::uint64_t>& empty_wedges, int threads) {
   std::vector<std::array<int, 3>> partner(T.size(), {{-1, -1, -1}});
-  const std::vector<std::pair<std::uint64_t, int>> sides = edgeSides(T, V.size(), 1);
+  const std::vector<std::pair<std::uint64_t, int>> sides = edgeSides(T, V.size(), threads);
   forEachEdge(sides, [&](std::size_t i0, std::size_t i1) {
     if (i1 - i0 <= 2 || (i1 - i0) % 2) return;
     const std::uint64_t key = sides[i0].first;
@@ -2178,11 +2179,11 @@ std::vector<std::array<int, 3>> pairAcrossEdges(const std::vector<Vec>& V, const
 // Separating the solid wedges of such an edge fails where the solids are joined around both
 // ends (the empty wedge between them is a pocket closed there): those edges are split again
 // from the start with their empty wedges paired. Requires a closed, oriented mesh. Returns the
-// number of copies made.
+// number of copies made. `threads` as for pairAcrossEdges.
 std::size_t splitFans(std::vector<Vec>& V, std::vector<Tri>& T, const std::set<std::uint64_t>& empty_wedges,
-                      std::vector<int>& origin);
+                      std::vector<int>& origin, int threads);
 
-std::size_t splitPinchedVertices(std::vector<Vec>& V, std::vector<Tri>& T) {
+std::size_t splitPinchedVertices(std::vector<Vec>& V, std::vector<Tri>& T, int threads) {
   std::set<std::uint64_t> empty_wedges;
   std::vector<Vec> V1;
   std::vector<Tri> T1;
@@ -2190,13 +2191,13 @@ std::size_t splitPinchedVertices(std::vector<Vec>& V, std::vector<Tri>& T) {
   for (int attempt = 0; attempt < 2; ++attempt) {
     V1 = V, T1 = T;
     std::vector<int> origin;
-    copies = splitFans(V1, T1, empty_wedges, origin);
+    copies = splitFans(V1, T1, empty_wedges, origin, threads);
     // Edges that still have more than two faces, named by their original vertices.
     std::vector<std::uint64_t> edges;
     edges.reserve(3 * T1.size());
     for (const Tri& t : T1)
       for (int k = 0; k < 3; ++k) edges.push_back(edgeKey(t[k], t[(k + 1) % 3]));
-    std::sort(edges.begin(), edges.end());
+    bucketSort(edges, V1.size(), [](std::uint64_t e) { return e >> 32; }, threads);
     std::size_t added = 0;
     for (std::size_t i = 0, j = 0; i < edges.size(); i = j) {
       while (j < edges.size() && edges[j] == edges[i]) ++j;
@@ -2229,8 +2230,8 @@ VertexCorners vertexCorners(std::size_t nv, const std::vector<Tri>& T) {
 }
 
 std::size_t splitFans(std::vector<Vec>& V, std::vector<Tri>& T, const std::set<std::uint64_t>& empty_wedges,
-                      std::vector<int>& origin) {
-  const std::vector<std::array<int, 3>> partner = pairAcrossEdges(V, T, empty_wedges);
+                      std::vector<int>& origin, int threads) {
+  const std::vector<std::array<int, 3>> partner = pairAcrossEdges(V, T, empty_wedges, threads);
   origin.resize(V.size());
   std::iota(origin.begin(), origin.end(), 0);
   const VertexCorners corners = vertexCorners(V.size(), T);
@@ -2295,11 +2296,21 @@ constexpr double kPinchStep = 1e-3;
 // works. Returns the number of vertices that still share a position. The crossing tests of a
 // round run on `threads` threads (as SweepOptions::threads); the result does not depend on them.
 std::size_t separatePinches(std::vector<Vec>& V, const std::vector<Tri>& T, double eps, int threads) {
-  std::map<std::array<double, 3>, std::vector<int>> at;
-  for (std::size_t v = 0; v < V.size(); ++v) at[{{V[v].x(), V[v].y(), V[v].z()}}].push_back(static_cast<int>(v));
-  std::vector<std::vector<int>> groups;
-  for (auto& [x, list] : at)
-    if (list.size() > 1) groups.push_back(std::move(list));
+  // The vertices at equal positions: the runs of the vertices sorted by position (ordered
+  // lexicographically, then by number).
+  auto atEqualPositions = [&V]() {
+    auto key = [&V](int v) { return std::array<double, 3>{{V[v].x(), V[v].y(), V[v].z()}}; };
+    std::vector<int> order(V.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return key(a) < key(b); });
+    std::vector<std::vector<int>> runs;
+    for (std::size_t i = 0, j = 0; i < order.size(); i = j) {
+      while (j < order.size() && !(key(order[i]) < key(order[j]))) ++j;
+      if (j - i > 1) runs.emplace_back(order.begin() + static_cast<std::ptrdiff_t>(i), order.begin() + static_cast<std::ptrdiff_t>(j));
+    }
+    return runs;
+  };
+  std::vector<std::vector<int>> groups = atEqualPositions();
   if (groups.empty()) return 0;
   std::vector<std::vector<int>> faces_of(V.size());
   for (std::size_t f = 0; f < T.size(); ++f)
@@ -2351,8 +2362,32 @@ std::size_t separatePinches(std::vector<Vec>& V, const std::vector<Tri>& T, doub
     for (int v : group)
       for (const Vec& d : dir[v]) reach = std::max(reach, d.norm());
   reach = reach * (1 + 1e-9) + 1e-300;
+  // Only the faces near the pinches can cross a moved face: a face whose box (at the unmoved
+  // positions) meets the box of a face at a pinch, widened by 3 reach (each of the two boxes
+  // moves by at most reach, and the queries widen by reach). The hierarchy holds those
+  // (`near`: their numbers in T); building it over every face took most of this step's time.
+  std::vector<Tri> near_faces;
+  std::vector<int> near;
+  {
+    std::vector<Tri> at_pinch;
+    for (const std::vector<int>& group : groups)
+      for (int v : group)
+        for (int f : faces_of[v]) at_pinch.push_back(T[f]);
+    detail::FaceTree pinch_tree;
+    pinch_tree.build(V, at_pinch, threads);
+    std::vector<char> is_near(T.size(), 0);
+    const Vec grow = Vec::Constant(3 * reach);
+    parallelFor(0, T.size(), threads, [&](std::size_t f) {
+      const Tri& t = T[f];
+      const Vec lo = V[t[0]].cwiseMin(V[t[1]]).cwiseMin(V[t[2]]) - grow;
+      const Vec hi = V[t[0]].cwiseMax(V[t[1]]).cwiseMax(V[t[2]]) + grow;
+      pinch_tree.overlappingUntil(lo, hi, [&](int) { return !(is_near[f] = 1); });
+    });
+    for (std::size_t f = 0; f < T.size(); ++f)
+      if (is_near[f]) near.push_back(static_cast<int>(f)), near_faces.push_back(T[f]);
+  }
   detail::FaceTree tree;
-  tree.build(V, T, threads);
+  tree.build(V, near_faces, threads);
   std::vector<IPoint> P;
   P.reserve(V.size());
   for (const Vec& x : V) P.emplace_back(x.x(), x.y(), x.z());
@@ -2382,7 +2417,8 @@ std::size_t separatePinches(std::vector<Vec>& V, const std::vector<Tri>& T, doub
       const Tri& t = T[f];
       const Vec lo = V[t[0]].cwiseMin(V[t[1]]).cwiseMin(V[t[2]]) - Vec::Constant(reach);
       const Vec hi = V[t[0]].cwiseMax(V[t[1]]).cwiseMax(V[t[2]]) + Vec::Constant(reach);
-      tree.overlapping(lo, hi, [&](int g) {
+      tree.overlapping(lo, hi, [&](int k) {
+        const int g = near[static_cast<std::size_t>(k)];
         if (g != f && crosses(P, t, T[g])) crossed[i].push_back(g);
       });
     });
@@ -2405,9 +2441,9 @@ std::size_t separatePinches(std::vector<Vec>& V, const std::vector<Tri>& T, doub
     }
     todo.swap(again);
   }
-  std::set<std::array<double, 3>> seen;
-  for (const Vec& x : V) seen.insert({{x.x(), x.y(), x.z()}});
-  return V.size() - seen.size();
+  std::size_t sharing = 0;  // vertices that share a position with a vertex before them
+  for (const std::vector<int>& run : atEqualPositions()) sharing += run.size() - 1;
+  return sharing;
 }
 
 void computeCheck(MeshCheck& c, const std::vector<Vec>& V, const std::vector<Tri>& T, bool self, int threads) {
@@ -3822,7 +3858,7 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
   const auto thin = dropThinShells(env.triangles, eps, env.vertices, options.threads);
   env.thin_cavities_removed = thin[0];
   env.thin_solids_removed = thin[1];
-  const std::size_t copies = splitPinchedVertices(env.vertices, env.triangles);
+  const std::size_t copies = splitPinchedVertices(env.vertices, env.triangles, options.threads);
   // Splitting closes pockets that touched the surface along an edge into shells of their own.
   const auto sealed = dropThinShells(env.triangles, eps, env.vertices, options.threads);
   env.thin_cavities_removed += sealed[0];
