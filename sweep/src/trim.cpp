@@ -582,29 +582,38 @@ struct Constraint {
 // that no other point can be made at the same address while they are consulted.
 class LineFacts {
  public:
-  // Registers a projected point with the keys of the lines it lies on (sorted, unique).
-  void add(const EK::Point_2& p, std::vector<std::uint64_t> lines) {
-    std::sort(lines.begin(), lines.end());
-    lines.erase(std::unique(lines.begin(), lines.end()), lines.end());
-    index_.emplace(p.id(), static_cast<int>(lines_.size()));
-    lines_.push_back(std::move(lines));
+  // Registers a projected point with the keys of the lines it lies on, [first, last) (sorted,
+  // unique).
+  void add(const EK::Point_2& p, const std::uint64_t* first, const std::uint64_t* last) {
+    ids_.push_back(p.id());
+    begin_.push_back(static_cast<std::uint32_t>(lines_.size()));
+    lines_.insert(lines_.end(), first, last);
     points_.push_back(p);
   }
   // True if p, q and r are known to lie on one line (or two of them are one point). False
   // says nothing.
   bool collinear(const EK::Point_2& p, const EK::Point_2& q, const EK::Point_2& r) const {
     if (p.id() == q.id() || q.id() == r.id() || r.id() == p.id()) return true;
-    const auto a = index_.find(p.id()), b = index_.find(q.id()), c = index_.find(r.id());
-    if (a == index_.end() || b == index_.end() || c == index_.end()) return false;
-    const auto &la = lines_[a->second], &lb = lines_[b->second], &lc = lines_[c->second];
-    for (const std::uint64_t k : la)
-      if (std::binary_search(lb.begin(), lb.end(), k) && std::binary_search(lc.begin(), lc.end(), k)) return true;
+    const std::size_t a = find(p.id()), b = find(q.id()), c = find(r.id());
+    if (a == ids_.size() || b == ids_.size() || c == ids_.size()) return false;
+    for (const std::uint64_t* k = linesBegin(a); k != linesEnd(a); ++k)
+      if (std::binary_search(linesBegin(b), linesEnd(b), *k) && std::binary_search(linesBegin(c), linesEnd(c), *k))
+        return true;
     return false;
   }
 
  private:
-  std::unordered_map<CGAL::Handle::Id_type, int> index_;
-  std::vector<std::vector<std::uint64_t>> lines_;
+  // (a triangle's points are few: a scan of their ids costs less than a hash map's nodes)
+  std::size_t find(CGAL::Handle::Id_type id) const {
+    return static_cast<std::size_t>(std::find(ids_.begin(), ids_.end(), id) - ids_.begin());
+  }
+  const std::uint64_t* linesBegin(std::size_t i) const { return lines_.data() + begin_[i]; }
+  const std::uint64_t* linesEnd(std::size_t i) const {
+    return lines_.data() + (i + 1 < begin_.size() ? begin_[i + 1] : lines_.size());
+  }
+  std::vector<CGAL::Handle::Id_type> ids_;  // per registered point
+  std::vector<std::uint32_t> begin_;        // per registered point: its first line in lines_
+  std::vector<std::uint64_t> lines_;
   std::vector<EK::Point_2> points_;  // (holds the representations)
 };
 
@@ -941,6 +950,17 @@ struct LinePlanePoint {
 const CGAL::Lazy_construction<EK, LinePlanePoint<EK::Approximate_kernel>, LinePlanePoint<EK::Exact_kernel>>
     linePlanePoint{};
 const CGAL::Lazy_construction<EK, LineLinePoint<EK::Approximate_kernel>, LineLinePoint<EK::Exact_kernel>> lineLinePoint{};
+// The projection of a point onto the plane of the other two coordinates than D, (x_{D+1},
+// x_{D+2}), as one lazy construction (instead of two lazy coordinates and a point made of them:
+// the same intervals and exact values, a third of the nodes).
+template <class K, int D>
+struct DropCoordinate {
+  using result_type = typename K::Point_2;
+  result_type operator()(const typename K::Point_3& p) const { return result_type(p[(D + 1) % 3], p[(D + 2) % 3]); }
+};
+const CGAL::Lazy_construction<EK, DropCoordinate<EK::Approximate_kernel, 0>, DropCoordinate<EK::Exact_kernel, 0>> dropX{};
+const CGAL::Lazy_construction<EK, DropCoordinate<EK::Approximate_kernel, 1>, DropCoordinate<EK::Exact_kernel, 1>> dropY{};
+const CGAL::Lazy_construction<EK, DropCoordinate<EK::Approximate_kernel, 2>, DropCoordinate<EK::Exact_kernel, 2>> dropZ{};
 
 template <class Result, class PointId>
 void addConstraints(const Result& x, std::vector<Constraint>& into, PointId&& pointId) {
@@ -1386,38 +1406,60 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
     // Drop the coordinate k of the largest |n_k| (compared exactly, so that coplanar triangles
     // project alike and triangulate their overlap alike); (k+1, k+2) keeps the orientation iff
     // n_k > 0.
+    // (the intervals decide the comparisons and the sign when they can, as the exact kernel's
+    // filter would, without making lazy numbers)
+    const auto& na = n.approx();
     int k = 0;
-    for (int c = 1; c < 3; ++c)
-      if (CGAL::compare(CGAL::abs(n[c]), CGAL::abs(n[k])) == CGAL::LARGER) k = c;
+    for (int c = 1; c < 3; ++c) {
+      const CGAL::Uncertain<CGAL::Comparison_result> r = CGAL::compare(CGAL::abs(na[c]), CGAL::abs(na[k]));
+      if ((CGAL::is_certain(r) ? CGAL::get_certain(r) : CGAL::compare(CGAL::abs(n[c]), CGAL::abs(n[k]))) == CGAL::LARGER)
+        k = c;
+    }
     const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
-    const bool flip = CGAL::is_negative(n[k]);
-    auto project = [&](const EPoint& p) { return EK::Point_2(p[k1], p[k2]); };
+    const CGAL::Uncertain<bool> negative = na[k] < 0;
+    const bool flip = CGAL::is_certain(negative) ? CGAL::get_certain(negative) : CGAL::is_negative(n[k]);
+    auto project = [&](const EPoint& p) { return k == 0 ? dropX(p) : k == 1 ? dropY(p) : dropZ(p); };
     // The lines the points lie on: the triangle's edges through its corners and its cut points
-    // (edge_of), and for each named constraint the line of the other triangle's plane.
+    // (edge_of), and for each named constraint the line of the other triangle's plane; as
+    // (point, line) pairs, sorted and unique, so that each point's lines are a sorted run.
     const std::uint64_t edges[3] = {edgeKey(T[t][0], T[t][1]), edgeKey(T[t][1], T[t][2]), edgeKey(T[t][2], T[t][0])};
-    std::unordered_map<int, std::vector<std::uint64_t>> lines_of;
-    for (int c = 0; c < 3; ++c) lines_of[T[t][c]] = {lineOfEdge(edges[c]), lineOfEdge(edges[(c + 2) % 3])};
+    std::vector<std::pair<int, std::uint64_t>> on_line;
+    for (int c = 0; c < 3; ++c)
+      on_line.emplace_back(T[t][c], lineOfEdge(edges[c])), on_line.emplace_back(T[t][c], lineOfEdge(edges[(c + 2) % 3]));
     for (const Constraint& c : cons[t])
       for (const int id : {c.a, c.b}) {
-        std::vector<std::uint64_t>& l = lines_of[id];
-        if (c.other >= 0) l.push_back(lineOfPlane(c.other));
+        if (c.other >= 0) on_line.emplace_back(id, lineOfPlane(c.other));
         const std::uint64_t e = static_cast<std::size_t>(id) < edge_of.size() ? edge_of[id] : 0;
-        if (e && (e == edges[0] || e == edges[1] || e == edges[2])) l.push_back(lineOfEdge(e));
+        if (e && (e == edges[0] || e == edges[1] || e == edges[2])) on_line.emplace_back(id, lineOfEdge(e));
       }
+    std::sort(on_line.begin(), on_line.end());
+    on_line.erase(std::unique(on_line.begin(), on_line.end()), on_line.end());
+    std::vector<std::uint64_t> lines;
     LineFacts facts;
     CdtTraits traits;
     traits.facts = &facts;
     CDT cdt(traits);
-    // Distinct numbers are distinct points of the plane, so distinct vertices.
-    std::unordered_map<int, std::pair<CDT::Vertex_handle, EK::Point_2>> vertex_of;
-    auto vertex = [&](int id) -> const std::pair<CDT::Vertex_handle, EK::Point_2>& {
-      auto [it, added] = vertex_of.emplace(id, std::make_pair(CDT::Vertex_handle(), EK::Point_2()));
-      if (added) {
-        it->second.second = project(out.points[id]);
-        facts.add(it->second.second, lines_of[id]);
-        (it->second.first = cdt.insert(it->second.second))->info().id = id;
-      }
-      return it->second;
+    // Distinct numbers are distinct points of the plane, so distinct vertices. (A triangle has
+    // few points: they are found by a scan.)
+    struct Placed {
+      int id;
+      CDT::Vertex_handle handle;
+      EK::Point_2 point;
+    };
+    std::vector<Placed> placed;
+    placed.reserve(3 + 2 * cons[t].size());  // (every vertex: the references below stay valid)
+    auto vertex = [&](int id) -> const Placed& {
+      for (const Placed& x : placed)
+        if (x.id == id) return x;
+      const EK::Point_2 p = project(out.points[id]);
+      auto run = std::lower_bound(on_line.begin(), on_line.end(), std::make_pair(id, std::uint64_t{0}));
+      lines.clear();
+      for (; run != on_line.end() && run->first == id; ++run) lines.push_back(run->second);
+      facts.add(p, lines.data(), lines.data() + lines.size());
+      const CDT::Vertex_handle v = cdt.insert(p);
+      v->info().id = id;
+      placed.push_back({id, v, p});
+      return placed.back();
     };
     for (int c = 0; c < 3; ++c) vertex(T[t][c]);
     for (const Constraint& c : cons[t]) vertex(c.a), vertex(c.b);
@@ -1430,7 +1472,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
     std::vector<CGAL::Bbox_2> span_box(nc);
     for (std::size_t x = 0; x < nc; ++x) {
       const Constraint& c = cons[t][x];
-      ends[x] = {{&vertex_of.at(c.a).second, &vertex_of.at(c.b).second}};
+      ends[x] = {{&vertex(c.a).point, &vertex(c.b).point}};
       span_box[x] = ends[x][0]->bbox() + ends[x][1]->bbox();
     }
     for (std::size_t x = 0; x < nc; ++x) {
@@ -1454,7 +1496,9 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
         const EPoint X = linePlanePoint(out.points[on.a], out.points[on.b], out.points[w[0]], out.points[w[1]],
                                         out.points[w[2]]);
         const EK::Point_2 x2 = project(X);
-        facts.add(x2, {lineOfPlane(c.other), lineOfPlane(d.other)});
+        const std::uint64_t two[2] = {std::min(lineOfPlane(c.other), lineOfPlane(d.other)),
+                                      std::max(lineOfPlane(c.other), lineOfPlane(d.other))};
+        facts.add(x2, two, two + 2);
         const CDT::Vertex_handle v = cdt.insert(x2);
         if (v->info().id != kNoId) continue;  // a point already there (several constraints cross at it)
         r.fresh.push_back(X);
@@ -1466,7 +1510,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
       }
     }
     for (const Constraint& c : cons[t])
-      if (c.b != c.a) cdt.insert_constraint(vertex_of.at(c.a).first, vertex_of.at(c.b).first);
+      if (c.b != c.a) cdt.insert_constraint(vertex(c.a).handle, vertex(c.b).handle);
     for (auto v : cdt.finite_vertex_handles()) {
       if (v->info().id != kNoId) continue;
       // Lift onto the triangle's plane: n·(X - A) = 0 solved for X_k (exact).
