@@ -2447,7 +2447,10 @@ std::size_t separatePinches(std::vector<Vec>& V, const std::vector<Tri>& T, doub
       const Tri& t = T[f];
       const Vec lo = V[t[0]].cwiseMin(V[t[1]]).cwiseMin(V[t[2]]) - grow;
       const Vec hi = V[t[0]].cwiseMax(V[t[1]]).cwiseMax(V[t[2]]) + grow;
-      pinch_tree.overlappingUntil(lo, hi, [&](int) { return !(is_near[f] = 1); });
+      pinch_tree.overlappingUntil(lo, hi, [&](int) {
+        is_near[f] = 1;
+        return false;  // (one face at a pinch is enough)
+      });
     });
     for (std::size_t f = 0; f < T.size(); ++f)
       if (is_near[f]) near.push_back(static_cast<int>(f)), near_faces.push_back(T[f]);
