@@ -2621,8 +2621,8 @@ constexpr double kBuriedProbe = 1.5;
 // faces kept, vertices 1.66 eps deep far from that mouth; test
 // CrackRegionsAreKeptByPiecesNearTheirFailedMouths). A buried patch can be long too (case 482:
 // 18 faces over 56 eps, its far end 1.02 eps deep; test
-// BuriedPatchesAreKeptByPiecesNearTheirFailedMouths). Where a kept piece meets a piece left
-// out, the walls end on a new mouth, filled like the others (or kept in a later round). Screws
+// BuriedPatchEndThatWasDeepLiesWithinTolerance, whose mouth now closes). Where a kept piece
+// meets a piece left out, the walls end on a new mouth, filled like the others (or kept in a later round). Screws
 // at 1e-3, crack faces kept whole / in cells of 32, 16, 8 and 2 tolerances: elephant 1,395 /
 // 1,328 / 1,259 / 1,133 / 640, knot1 2,550 / 1,521 / 1,130 / 887 / 679, armadillo 1,976 / 783
 // / 509 / 268 / 180, bunny00 438 / 287 / 245 / 231 / 187; buried patches with a piece kept,
@@ -3091,6 +3091,16 @@ constexpr int kFlapPasses = 4;
 // rim from all fillings for every bad loop, not only for those with no filling, left 12 vertices
 // of bunny00's screw uncertified (bound 8 eps).
 constexpr double kRimReach = 1.5;
+// Joined mouths: a bad loop and the loops it shares points with are joined and filled anew when
+// they have up to this many points in all (the refill's limit, kRefillPoints). The stress
+// campaign's CGAL sphere on a shear-and-scale span (case 15738) kept buried patches with two
+// vertices deeper than eps at two mouths of 4 and 5 points that share two points; joined, with
+// the refill leaving out triangles that cross each other, they close (test
+// MouthsSharingPointsAreFilledAsOne; it fails without either part).
+constexpr std::size_t kJoinedPoints = kRefillPoints;
+// Joined mouths: the repeated points of a joined loop at which it may be cut (the first ones
+// on it), so that at most 2^kJoinedCuts ways are tried.
+constexpr std::size_t kJoinedCuts = 3;
 // Selection rounds that may leave rims out (the first ones; later rounds keep the patches at
 // every bad loop, so that the rounds end).
 constexpr int kRimRounds = 2;
@@ -3286,7 +3296,7 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
   };
   // (room for the fans' points, so that appending them moves no point the tree refers to)
   const std::size_t old_points = V.size();
-  V.reserve(old_points + loops.size());
+  V.reserve(old_points + 2 * loops.size());
   std::vector<IPoint> P;
   P.reserve(V.capacity());
   for (const Vec& x : V) P.emplace_back(x.x(), x.y(), x.z());
@@ -3315,7 +3325,7 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
     added.clear();
     loop_of.clear();
     for (std::size_t l = 0; l < loops.size(); ++l) {
-      if (fill[l].empty()) bad[l] = 1;
+      if (fill[l].empty() && !loops[l].empty()) bad[l] = 1;  // (an empty loop was joined into another)
       for (const Tri& t : fill[l]) added.push_back(t), loop_of.push_back(static_cast<int>(l));
     }
     // Edge uses: the surface's (sorted once) plus the filling faces'. An edge used wrongly with
@@ -3402,22 +3412,23 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
   // Per loop to be refilled: the filling faces it must neither cross nor share an edge with
   // (see Crossing fillings).
   std::vector<std::vector<Tri>> avoid(loops.size());
-  // Loop l filled again, avoiding what made its first filling bad: the best triangulation,
+  // A loop filled again, avoiding what made its first filling bad: the best triangulation,
   // ranked like CGAL's search (least largest bend between neighbouring filling faces, then least
   // area), among those whose diagonals are not edges of the surface (a repeated edge would have
   // more than two faces: most first fillings that fail, fail so) and whose triangles are
-  // neither collinear nor found crossing the surface or the faces of avoid[l]. A search over
+  // neither collinear nor found crossing the surface or the faces `avoid_faces`. A search over
   // all triangulations (O(n^3) over the loop's n points); its triangles are then tested
-  // against the surface and avoid[l], and those that cross are excluded from the next search,
-  // up to kRefillSearches searches. Leaves fill[l] empty when none is found.
-  auto refillLoop = [&](std::size_t l) {
-    const std::vector<int>& loop = loops[l];
+  // against the surface, avoid_faces and each other, and those that cross are excluded from the
+  // next search, up to kRefillSearches searches. Returns the filling's faces (none when none is
+  // found); the surface faces found crossing are added to `hit_list`. refillLoop(l) refills
+  // loop l, avoiding avoid[l].
+  auto refill = [&](const std::vector<int>& loop, const std::vector<Tri>& avoid_faces, std::vector<int>& hit_list) {
+    std::vector<Tri> out;
     const int n = static_cast<int>(loop.size());
-    fill[l].clear();
     auto at = [n](int i, int k) { return static_cast<std::size_t>(i) * static_cast<std::size_t>(n) + static_cast<std::size_t>(k); };
     std::vector<char> usable(static_cast<std::size_t>(n) * static_cast<std::size_t>(n), 1);  // diagonals (i < k)
     std::vector<std::uint64_t> avoid_edges;  // (the edges of the fillings to avoid)
-    for (const Tri& t : avoid[l])
+    for (const Tri& t : avoid_faces)
       for (int j = 0; j < 3; ++j) avoid_edges.push_back(edgeKey(t[j], t[(j + 1) % 3]));
     std::sort(avoid_edges.begin(), avoid_edges.end());
     for (int i = 0; i < n; ++i)
@@ -3460,7 +3471,7 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
             if (std::make_pair(worst, area) < std::make_pair(b.bend, b.area)) b = {worst, area, m, unit};
           }
         }
-      if (best[at(0, n - 1)].apex < 0) return;
+      if (best[at(0, n - 1)].apex < 0) return out;
       std::vector<std::array<int, 3>> chosen;  // (i, m, k), i < m < k
       std::vector<std::pair<int, int>> todo{{0, n - 1}};
       while (!todo.empty()) {
@@ -3479,17 +3490,27 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
         bool hit = false;
         surface.overlappingUntil(lo, hi, [&](int g) {
           hit = crosses(P, t, T[g]);
-          if (hit) hits[l].push_back(g);
+          if (hit) hit_list.push_back(g);
           return !hit;
         });
-        for (std::size_t a = 0; !hit && a < avoid[l].size(); ++a) hit = crosses(P, t, avoid[l][a]);
+        for (std::size_t a = 0; !hit && a < avoid_faces.size(); ++a) hit = crosses(P, t, avoid_faces[a]);
         if (hit) excluded.insert(x), crossing = true;
       }
+      // (and the triangles against each other: the filling of a twisted loop can cross itself;
+      // both triangles of a crossing pair are excluded)
+      for (std::size_t a = 0; a < chosen.size(); ++a)
+        for (std::size_t b = a + 1; b < chosen.size(); ++b) {
+          const Tri s{{loop[chosen[a][0]], loop[chosen[a][2]], loop[chosen[a][1]]}};
+          const Tri t{{loop[chosen[b][0]], loop[chosen[b][2]], loop[chosen[b][1]]}};
+          if (crosses(P, s, t)) excluded.insert(chosen[a]), excluded.insert(chosen[b]), crossing = true;
+        }
       if (crossing) continue;
-      for (const auto& x : chosen) fill[l].push_back({{loop[x[0]], loop[x[2]], loop[x[1]]}});
-      return;
+      for (const auto& x : chosen) out.push_back({{loop[x[0]], loop[x[2]], loop[x[1]]}});
+      return out;
     }
+    return out;
   };
+  auto refillLoop = [&](std::size_t l) { fill[l] = refill(loops[l], avoid[l], hits[l]); };
   // Short loops are filled first by CGAL's search over all their triangulations; those it
   // fills badly are filled again by refillLoop (up to kRefillPoints points); those still bad
   // are fanned (see Fans). All choose the same filling on every run. Longer loops stay
@@ -3532,12 +3553,9 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
     if (fresh[l]) refillLoop(l);
   });
   if (again) bad = badLoops(fresh);
-  // The fans, their new points numbered in loop order.
-  again = false;
-  for (std::size_t l = 0; l < loops.size(); ++l) {
-    fresh[l] = bad[l] && loops[l].size() >= 3 && loops[l].size() <= kCubicHoleFilling;
-    if (!fresh[l]) continue;
-    again = true;
+  // Loop l fanned around a new point (see Fans); fill[l] is left empty when the apex would lie
+  // too far from the loop.
+  auto fanLoop = [&](std::size_t l) {
     const std::vector<int>& loop = loops[l];
     Vec mean = Vec::Zero();
     for (int v : loop) mean += V[v];
@@ -3553,7 +3571,7 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
     }
     if (!(reach <= kFanReach * eps_t)) {
       fill[l].clear();
-      continue;
+      return;
     }
     const int apex = static_cast<int>(V.size());
     V.push_back(mean);
@@ -3566,8 +3584,165 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
         fill[l].clear();
         break;
       }
+  };
+  // The fans, their new points numbered in loop order.
+  auto fanBadLoops = [&](const std::vector<char>& among) {
+    bool any = false;
+    for (std::size_t l = 0; l < loops.size(); ++l) {
+      fresh[l] = among[l] && bad[l] && loops[l].size() >= 3 && loops[l].size() <= kCubicHoleFilling;
+      if (fresh[l]) any = true, fanLoop(l);
+    }
+    if (any) bad = badLoops(fresh);
+  };
+  fanBadLoops(std::vector<char>(loops.size(), 1));
+  // Joined mouths: a bad loop that shares points with other loops is joined with them (those
+  // that are bad too, and those that are not: their filling may cross the bad loop's) into one
+  // loop at their common points and filled as one; the loops joined into another are left
+  // empty. A join that fails with loops that were good is undone. (See kJoinedPoints.)
+  {
+    std::vector<std::pair<int, int>> spots;  // (point, loop) of every loop point
+    for (std::size_t l = 0; l < loops.size(); ++l)
+      if (loops[l].size() >= 3)
+        for (const int v : loops[l]) spots.emplace_back(v, static_cast<int>(l));
+    std::sort(spots.begin(), spots.end());
+    std::vector<int> head_of(loops.size(), -1);
+    std::vector<std::vector<int>> members(loops.size());  // per head, in the order joined
+    for (std::size_t l = 0; l < loops.size(); ++l) {
+      if (!bad[l] || loops[l].size() < 3 || head_of[l] >= 0) continue;
+      // (breadth first from the bad loop, through loops that meet a bad member, up to
+      // kJoinedPoints points)
+      std::vector<int>& m = members[l];
+      m.assign(1, static_cast<int>(l));
+      head_of[l] = static_cast<int>(l);
+      std::size_t points = loops[l].size();
+      for (std::size_t q = 0; q < m.size(); ++q) {
+        const auto x = static_cast<std::size_t>(m[q]);
+        for (const int v : loops[x])
+          for (auto it = std::lower_bound(spots.begin(), spots.end(), std::make_pair(v, -1));
+               it != spots.end() && it->first == v; ++it) {
+            const auto y = static_cast<std::size_t>(it->second);
+            if (head_of[y] >= 0 || !(bad[x] || bad[y]) || points + loops[y].size() > kJoinedPoints) continue;
+            head_of[y] = static_cast<int>(l);
+            m.push_back(it->second);
+            points += loops[y].size();
+          }
+      }
+      if (m.size() < 2) m.clear(), head_of[l] = -1;
+    }
+    std::fill(fresh.begin(), fresh.end(), 0);
+    std::vector<std::vector<int>> saved_loops(loops.size());
+    std::vector<std::vector<Tri>> saved_fill(loops.size());
+    const std::vector<char> was_bad = bad;
+    bool any = false;
+    for (std::size_t h = 0; h < loops.size(); ++h) {
+      const std::vector<int>& m = members[h];
+      if (m.empty()) continue;
+      // Splice each in at a point it shares with the loop so far (the first member after the
+      // head to meet it, as joined): the walk ... -> p -> (the other loop, from p round to p)
+      // -> ... follows the directed edges of both.
+      std::vector<int> joined = loops[h];
+      for (std::size_t k = 1; k < m.size(); ++k) {
+        const std::vector<int>& other = loops[static_cast<std::size_t>(m[k])];
+        for (std::size_t i = 0; i < joined.size(); ++i) {
+          const auto j = std::find(other.begin(), other.end(), joined[i]);
+          if (j == other.end()) continue;
+          std::vector<int> turned(j + 1, other.end());
+          turned.insert(turned.end(), other.begin(), j + 1);
+          joined.insert(joined.begin() + static_cast<std::ptrdiff_t>(i) + 1, turned.begin(), turned.end());
+          break;
+        }
+      }
+      for (const int x : m) {
+        const auto l = static_cast<std::size_t>(x);
+        saved_loops[l] = loops[l];
+        saved_fill[l] = fill[l];
+        if (l != h) hits[h].insert(hits[h].end(), hits[l].begin(), hits[l].end());
+        loops[l].clear();
+        fill[l].clear();
+        fresh[l] = 1;
+      }
+      loops[h] = std::move(joined);
+      any = true;
+    }
+    // The joined loop is cut again at its repeated points into simple loops, refilled one after
+    // the other, each avoiding the fillings before it: where loops meet at a point, the edges
+    // into it can be paired with the edges out of it in more than one way, and the loops traced
+    // first are one pairing. The ways are tried in order (fewer cuts first, then the points in
+    // the order of their first place on the loop); the first whose every piece is refilled is
+    // the joined loop's filling. (Filled whole, as a loop that meets itself, the fillings met
+    // themselves at the repeated points: on the stress campaign's bracket polySAM, case 23159,
+    // the envelope self-intersected at one, 131 crossing pairs, after the pinch there was split.)
+    parallelFor(0, loops.size(), threads, [&](std::size_t l) {
+      if (!fresh[l] || loops[l].empty()) return;
+      std::vector<int> repeated;  // (points on the loop more than once, by first place)
+      for (std::size_t i = 0; i < loops[l].size(); ++i)
+        if (std::find(repeated.begin(), repeated.end(), loops[l][i]) == repeated.end() &&
+            std::find(loops[l].begin() + static_cast<std::ptrdiff_t>(i) + 1, loops[l].end(), loops[l][i]) != loops[l].end())
+          repeated.push_back(loops[l][i]);
+      repeated.resize(std::min(repeated.size(), kJoinedCuts));
+      std::vector<unsigned> ways(std::size_t{1} << repeated.size());
+      std::iota(ways.begin(), ways.end(), 0u);
+      std::stable_sort(ways.begin(), ways.end(), [](unsigned a, unsigned b) { return __builtin_popcount(a) < __builtin_popcount(b); });
+      for (const unsigned way : ways) {
+        std::vector<std::vector<int>> pieces{loops[l]};
+        bool valid = true;
+        for (std::size_t r = 0; valid && r < repeated.size(); ++r) {
+          if (!(way >> r & 1)) continue;
+          valid = false;
+          for (std::size_t q = 0; q < pieces.size() && !valid; ++q) {
+            std::vector<int>& piece = pieces[q];
+            const auto i = std::find(piece.begin(), piece.end(), repeated[r]);
+            const auto j = i == piece.end() ? piece.end() : std::find(i + 1, piece.end(), repeated[r]);
+            if (j == piece.end()) continue;
+            std::vector<int> other(j, piece.end());
+            other.insert(other.end(), piece.begin(), i);
+            piece.erase(j, piece.end());
+            piece.erase(piece.begin(), i);
+            pieces.push_back(std::move(other));
+            valid = true;
+          }
+        }
+        for (const auto& piece : pieces) {
+          std::vector<int> points = piece;
+          std::sort(points.begin(), points.end());
+          valid = valid && piece.size() >= 3 && std::adjacent_find(points.begin(), points.end()) == points.end();
+        }
+        if (!valid) continue;
+        std::vector<Tri> faces;
+        for (const auto& piece : pieces) {
+          const std::vector<Tri> more = refill(piece, faces, hits[l]);
+          if (more.empty()) {
+            faces.clear();
+            break;
+          }
+          faces.insert(faces.end(), more.begin(), more.end());
+        }
+        if (faces.empty()) continue;
+        fill[l] = std::move(faces);
+        break;
+      }
+    });
+    if (any) {
+      bad = badLoops(fresh);
+      // (undo the joins that failed with loops that were good)
+      std::fill(fresh.begin(), fresh.end(), 0);
+      bool undo = false;
+      for (std::size_t h = 0; h < loops.size(); ++h) {
+        if (members[h].empty() || !bad[h]) continue;
+        bool had_good = false;
+        for (const int x : members[h]) had_good = had_good || !was_bad[static_cast<std::size_t>(x)];
+        if (!had_good) continue;
+        for (const int x : members[h]) {
+          const auto l = static_cast<std::size_t>(x);
+          loops[l] = std::move(saved_loops[l]);
+          fill[l] = std::move(saved_fill[l]);
+          fresh[l] = 1;
+        }
+        undo = true;
+      }
+      if (undo) bad = badLoops(fresh);
+    }
   }
-  if (again) bad = badLoops(fresh);
   // The rims of the loops whose last filling crosses the surface, or that have no filling (see
   // Rims).
   std::vector<char> has_rim(loops.size(), 0);
