@@ -3597,8 +3597,9 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
   fanBadLoops(std::vector<char>(loops.size(), 1));
   // Joined mouths: a bad loop that shares points with other loops is joined with them (those
   // that are bad too, and those that are not: their filling may cross the bad loop's) into one
-  // loop at their common points and filled as one; the loops joined into another are left
-  // empty. A join that fails with loops that were good is undone. (See kJoinedPoints.)
+  // loop at their common points and filled anew as one (see below); the loops joined into
+  // another are left empty. A join that fails with loops that were good is undone. (See
+  // kJoinedPoints.)
   {
     std::vector<std::pair<int, int>> spots;  // (point, loop) of every loop point
     for (std::size_t l = 0; l < loops.size(); ++l)
@@ -3632,6 +3633,7 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
     std::fill(fresh.begin(), fresh.end(), 0);
     std::vector<std::vector<int>> saved_loops(loops.size());
     std::vector<std::vector<Tri>> saved_fill(loops.size());
+    std::vector<std::vector<int>> saved_hits(loops.size());
     const std::vector<char> was_bad = bad;
     bool any = false;
     for (std::size_t h = 0; h < loops.size(); ++h) {
@@ -3656,6 +3658,7 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
         const auto l = static_cast<std::size_t>(x);
         saved_loops[l] = loops[l];
         saved_fill[l] = fill[l];
+        saved_hits[l] = hits[l];
         if (l != h) hits[h].insert(hits[h].end(), hits[l].begin(), hits[l].end());
         loops[l].clear();
         fill[l].clear();
@@ -3736,6 +3739,7 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
           const auto l = static_cast<std::size_t>(x);
           loops[l] = std::move(saved_loops[l]);
           fill[l] = std::move(saved_fill[l]);
+          hits[l] = std::move(saved_hits[l]);
           fresh[l] = 1;
         }
         undo = true;

@@ -656,6 +656,20 @@ Mesh cgalSampleMesh(const std::string& name) {
   steady::io::TriangleMesh mesh = cgalSample(name);
   return {std::move(mesh.vertices), std::move(mesh.faces)};
 }
+// CGAL's sphere on the span from pose b to pose c (3x4 matrices), swept at tolerance eps: it
+// keeps no wall (no crack face, no buried patch, no uncertified vertex), and every envelope
+// vertex about `deep` is within T of the true boundary (expectCrackMouthClosed).
+void expectSphereSpanKeepsNoWall(const Eigen::Matrix<double, 3, 4>& b, const Eigen::Matrix<double, 3, 4>& c, double eps,
+                                 const V& deep, const char* what) {
+  const Mesh m = cgalSampleMesh("sphere.off");
+  const Motion3 motion = single(Affine3::fromMatrix(b), Affine3::fromMatrix(c));
+  const Envelope env = sweep(m, motion, eps);
+  EXPECT_EQ(env.crack_faces_kept, 0u);
+  EXPECT_EQ(env.buried_patches_kept, 0u);
+  EXPECT_TRUE(env.kept_wall_uncertified.empty())
+      << env.kept_wall_uncertified.size() << " kept-wall vertices not certified";
+  expectCrackMouthClosed(env, m, motion, deep, what);
+}
 // A sample and the benchmark's screw: a half turn about a vertical axis at x = 0.5 while
 // rising 1.
 struct SampleOnScrew {
@@ -960,7 +974,6 @@ TEST(Envelope, NeighbouringMouthsWhoseFillingsCollideAreRefilledApart) {
 #ifndef STEADY_CGAL_MESHES
   GTEST_SKIP() << "CGAL's sample meshes (Debian libcgal-demo) were not found when the build was configured";
 #else
-  const Mesh m = cgalSampleMesh("sphere.off");
   Eigen::Matrix<double, 3, 4> b, c;
   b << 0.64429856222512405, -0.76340898298496618, 0.04567370592033565, -0.12464383269582713,  //
       -0.081008851371201895, -0.12751148182681088, -0.98852333710532569, -0.30337184259706262,  //
@@ -968,14 +981,8 @@ TEST(Envelope, NeighbouringMouthsWhoseFillingsCollideAreRefilledApart) {
   c << 0.8174151253589812, -0.25597317377492179, -0.51605256238289776, 0.19635418087254364,  //
       -0.26202801241607554, 0.63258301763677804, -0.72882099757541885, -0.55342949224031868,  //
       0.5130047110345497, 0.73096953432078249, 0.45001078470545208, -0.55846258194112097;
-  const Motion3 motion = single(Affine3::fromMatrix(b), Affine3::fromMatrix(c));
-  const Envelope env = sweep(m, motion, 2e-3);
-  EXPECT_EQ(env.crack_faces_kept, 0u);
-  EXPECT_EQ(env.buried_patches_kept, 0u);
-  EXPECT_TRUE(env.kept_wall_uncertified.empty())
-      << env.kept_wall_uncertified.size() << " kept-wall vertices not certified";
-  expectCrackMouthClosed(env, m, motion, V(0.23692385047200498, -0.16378601311916058, -0.48544631182830555),
-                         "CGAL sphere screw, neighbouring mouths refilled apart");
+  expectSphereSpanKeepsNoWall(b, c, 2e-3, V(0.23692385047200498, -0.16378601311916058, -0.48544631182830555),
+                              "CGAL sphere screw, neighbouring mouths refilled apart");
 #endif
 }
 
@@ -984,14 +991,13 @@ TEST(Envelope, NeighbouringMouthsWhoseFillingsCollideAreRefilledApart) {
 // (their fillings crossed each other, the smaller loop's refill found no triangulation and its
 // fan crossed the other's filling), and the buried patches kept there left two envelope
 // vertices about 28 eps away deeper than eps (listed, bound 4 eps). A bad loop is now joined
-// with the loops it shares points with and filled as one: whole, or cut at its repeated points
-// with the edges paired the other way (Joined mouths in trim.cpp), and the refill leaves out
+// with the loops it shares points with, cut back at those points into simple loops with the
+// edges paired either way, and refilled (Joined mouths in trim.cpp), and the refill leaves out
 // triangles that cross each other. Without either of the two, the walls are kept again.
 TEST(Envelope, MouthsSharingPointsAreFilledAsOne) {
 #ifndef STEADY_CGAL_MESHES
   GTEST_SKIP() << "CGAL's sample meshes (Debian libcgal-demo) were not found when the build was configured";
 #else
-  const Mesh m = cgalSampleMesh("sphere.off");
   Eigen::Matrix<double, 3, 4> b, c;
   b << -0.23883557743889741, 0.0066910213363851612, -0.9710369700391972, 0.018306420362370734,  //
       0.84613432905055519, 0.49208214068402334, -0.20472387262358094, -0.19308839038326664,      //
@@ -999,14 +1005,8 @@ TEST(Envelope, MouthsSharingPointsAreFilledAsOne) {
   c << -0.54756658035724637, 0.094077354228005422, -0.46636577363448672, 1.0618815941837692,  //
       0.59940068284058889, 0.87611521490138267, -0.29211994801725355, -0.13515676579236149,    //
       -0.035235914916156436, -0.13870513573353144, -0.87878368564608211, 0.38834429473510679;
-  const Motion3 motion = single(Affine3::fromMatrix(b), Affine3::fromMatrix(c));
-  const Envelope env = sweep(m, motion, 1e-3);
-  EXPECT_EQ(env.buried_patches_kept, 0u);
-  EXPECT_EQ(env.crack_faces_kept, 0u);
-  EXPECT_TRUE(env.kept_wall_uncertified.empty())
-      << env.kept_wall_uncertified.size() << " kept-wall vertices not certified";
-  expectCrackMouthClosed(env, m, motion, V(0.17017710803806657, -0.4363547288797397, -0.53331828375602663),
-                         "CGAL sphere shear-and-scale, mouths sharing points filled as one");
+  expectSphereSpanKeepsNoWall(b, c, 1e-3, V(0.17017710803806657, -0.4363547288797397, -0.53331828375602663),
+                              "CGAL sphere shear-and-scale, mouths sharing points filled as one");
 #endif
 }
 
