@@ -3296,7 +3296,7 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
   };
   // (room for the fans' points, so that appending them moves no point the tree refers to)
   const std::size_t old_points = V.size();
-  V.reserve(old_points + 2 * loops.size());
+  V.reserve(old_points + loops.size());
   std::vector<IPoint> P;
   P.reserve(V.capacity());
   for (const Vec& x : V) P.emplace_back(x.x(), x.y(), x.z());
@@ -3586,15 +3586,12 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
       }
   };
   // The fans, their new points numbered in loop order.
-  auto fanBadLoops = [&](const std::vector<char>& among) {
-    bool any = false;
-    for (std::size_t l = 0; l < loops.size(); ++l) {
-      fresh[l] = among[l] && bad[l] && loops[l].size() >= 3 && loops[l].size() <= kCubicHoleFilling;
-      if (fresh[l]) any = true, fanLoop(l);
-    }
-    if (any) bad = badLoops(fresh);
-  };
-  fanBadLoops(std::vector<char>(loops.size(), 1));
+  again = false;
+  for (std::size_t l = 0; l < loops.size(); ++l) {
+    fresh[l] = bad[l] && loops[l].size() >= 3 && loops[l].size() <= kCubicHoleFilling;
+    if (fresh[l]) again = true, fanLoop(l);
+  }
+  if (again) bad = badLoops(fresh);
   // Joined mouths: a bad loop that shares points with other loops is joined with them (those
   // that are bad too, and those that are not: their filling may cross the bad loop's) into one
   // loop at their common points and filled anew as one (see below); the loops joined into
