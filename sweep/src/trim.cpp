@@ -2622,8 +2622,8 @@ constexpr double kBuriedProbe = 1.5;
 // CrackRegionsAreKeptByPiecesNearTheirFailedMouths). A buried patch can be long too (case 482:
 // 18 faces over 56 eps, its far end 1.02 eps deep; test
 // BuriedPatchEndThatWasDeepLiesWithinTolerance, whose mouth now closes). Where a kept piece
-// meets a piece left out, the walls end on a new mouth, filled like the others (or kept in a later round). Screws
-// at 1e-3, crack faces kept whole / in cells of 32, 16, 8 and 2 tolerances: elephant 1,395 /
+// meets a piece left out, the walls end on a new mouth, filled like the others (or kept in a
+// later round). Screws at 1e-3, crack faces kept whole / in cells of 32, 16, 8 and 2 tolerances: elephant 1,395 /
 // 1,328 / 1,259 / 1,133 / 640, knot1 2,550 / 1,521 / 1,130 / 887 / 679, armadillo 1,976 / 783
 // / 509 / 268 / 180, bunny00 438 / 287 / 245 / 231 / 187; buried patches with a piece kept,
 // whole / in cells of 8 and 2: elephant 129 / 129 / 129, knot1 33 / 33 / 33, armadillo 599 /
@@ -3105,6 +3105,37 @@ constexpr std::size_t kJoinedCuts = 3;
 // every bad loop, so that the rounds end).
 constexpr int kRimRounds = 2;
 
+// A loop that passes through some points more than once, cut at the points cut[r] for the bits
+// r set in `way`: each cut splits the piece holding that point twice into the walk from its
+// first visit to just before its second, and the rest. Returns the pieces when every one is a
+// simple loop of at least 3 points, else none.
+std::vector<std::vector<int>> cutAtPoints(const std::vector<int>& loop, const std::vector<int>& cut, unsigned way) {
+  std::vector<std::vector<int>> pieces{loop};
+  for (std::size_t r = 0; r < cut.size(); ++r) {
+    if (!(way >> r & 1)) continue;
+    bool done = false;
+    for (std::size_t q = 0; q < pieces.size() && !done; ++q) {
+      std::vector<int>& piece = pieces[q];
+      const auto i = std::find(piece.begin(), piece.end(), cut[r]);
+      const auto j = i == piece.end() ? piece.end() : std::find(i + 1, piece.end(), cut[r]);
+      if (j == piece.end()) continue;
+      std::vector<int> other(j, piece.end());
+      other.insert(other.end(), piece.begin(), i);
+      piece.erase(j, piece.end());
+      piece.erase(piece.begin(), i);
+      pieces.push_back(std::move(other));
+      done = true;
+    }
+    if (!done) return {};
+  }
+  for (const auto& piece : pieces) {
+    std::vector<int> points = piece;
+    std::sort(points.begin(), points.end());
+    if (piece.size() < 3 || std::adjacent_find(points.begin(), points.end()) != points.end()) return {};
+  }
+  return pieces;
+}
+
 long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vector<std::array<int, 2>>& trouble,
                 std::vector<Tri>* rim, std::size_t& flaps, int threads) {
   // Per undirected edge: how many faces use it and the net direction (a < b positive), by a
@@ -3553,9 +3584,12 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
     if (fresh[l]) refillLoop(l);
   });
   if (again) bad = badLoops(fresh);
-  // Loop l fanned around a new point (see Fans); fill[l] is left empty when the apex would lie
-  // too far from the loop.
-  auto fanLoop = [&](std::size_t l) {
+  // The fans, their new points numbered in loop order.
+  again = false;
+  for (std::size_t l = 0; l < loops.size(); ++l) {
+    fresh[l] = bad[l] && loops[l].size() >= 3 && loops[l].size() <= kCubicHoleFilling;
+    if (!fresh[l]) continue;
+    again = true;
     const std::vector<int>& loop = loops[l];
     Vec mean = Vec::Zero();
     for (int v : loop) mean += V[v];
@@ -3571,7 +3605,7 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
     }
     if (!(reach <= kFanReach * eps_t)) {
       fill[l].clear();
-      return;
+      continue;
     }
     const int apex = static_cast<int>(V.size());
     V.push_back(mean);
@@ -3584,12 +3618,6 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
         fill[l].clear();
         break;
       }
-  };
-  // The fans, their new points numbered in loop order.
-  again = false;
-  for (std::size_t l = 0; l < loops.size(); ++l) {
-    fresh[l] = bad[l] && loops[l].size() >= 3 && loops[l].size() <= kCubicHoleFilling;
-    if (fresh[l]) again = true, fanLoop(l);
   }
   if (again) bad = badLoops(fresh);
   // Joined mouths: a bad loop that shares points with other loops is joined with them (those
@@ -3684,30 +3712,8 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
       std::iota(ways.begin(), ways.end(), 0u);
       std::stable_sort(ways.begin(), ways.end(), [](unsigned a, unsigned b) { return __builtin_popcount(a) < __builtin_popcount(b); });
       for (const unsigned way : ways) {
-        std::vector<std::vector<int>> pieces{loops[l]};
-        bool valid = true;
-        for (std::size_t r = 0; valid && r < repeated.size(); ++r) {
-          if (!(way >> r & 1)) continue;
-          valid = false;
-          for (std::size_t q = 0; q < pieces.size() && !valid; ++q) {
-            std::vector<int>& piece = pieces[q];
-            const auto i = std::find(piece.begin(), piece.end(), repeated[r]);
-            const auto j = i == piece.end() ? piece.end() : std::find(i + 1, piece.end(), repeated[r]);
-            if (j == piece.end()) continue;
-            std::vector<int> other(j, piece.end());
-            other.insert(other.end(), piece.begin(), i);
-            piece.erase(j, piece.end());
-            piece.erase(piece.begin(), i);
-            pieces.push_back(std::move(other));
-            valid = true;
-          }
-        }
-        for (const auto& piece : pieces) {
-          std::vector<int> points = piece;
-          std::sort(points.begin(), points.end());
-          valid = valid && piece.size() >= 3 && std::adjacent_find(points.begin(), points.end()) == points.end();
-        }
-        if (!valid) continue;
+        const std::vector<std::vector<int>> pieces = cutAtPoints(loops[l], repeated, way);
+        if (pieces.empty()) continue;
         std::vector<Tri> faces;
         for (const auto& piece : pieces) {
           const std::vector<Tri> more = refill(piece, faces, hits[l]);
