@@ -717,15 +717,21 @@ std::string checkSummary(const steady::sweep::MeshCheck& c, bool checked) {
   return s + std::to_string(c.self_intersections) + " SELF-INTERSECTING face pairs";
 }
 
-// The summary's warning when some vertex of the walls kept at mouths that could not be closed is
-// not certified within the tolerance of the true boundary (Envelope::kept_wall_uncertified);
-// empty otherwise.
+// The summary's warnings when some vertex of the walls kept at mouths that could not be closed,
+// or of an inner shell, is not certified within the tolerance of the true boundary
+// (Envelope::kept_wall_uncertified, cavity_uncertified); empty otherwise.
 std::string uncertifiedWarning(const steady::sweep::Envelope& e) {
-  if (e.kept_wall_uncertified.empty()) return {};
-  const std::string bound = std::isfinite(e.kept_wall_depth_bound) ? num(e.kept_wall_depth_bound) : "over 8 x tolerance";
-  return "; warning: " + count(e.kept_wall_uncertified.size(), "vertex", "vertices") +
-         " of walls kept at mouths that could not be closed not certified within the tolerance of the true boundary "
-         "(bound " + bound + "; indices in the report's kept_wall_uncertified)";
+  auto bound = [](double b) { return std::isfinite(b) ? num(b) : std::string("over 8 x tolerance"); };
+  std::string out;
+  if (!e.kept_wall_uncertified.empty())
+    out += "; warning: " + count(e.kept_wall_uncertified.size(), "vertex", "vertices") +
+           " of walls kept at mouths that could not be closed not certified within the tolerance of the true "
+           "boundary (bound " + bound(e.kept_wall_depth_bound) + "; indices in the report's kept_wall_uncertified)";
+  if (!e.cavity_uncertified.empty())
+    out += "; warning: " + count(e.cavity_uncertified.size(), "vertex", "vertices") +
+           " of inner shells (cavities) not certified within the tolerance of the true boundary (bound " +
+           bound(e.cavity_depth_bound) + "; indices in the report's cavity_uncertified)";
+  return out;
 }
 
 }  // namespace
@@ -849,6 +855,9 @@ SweepOutput sweepCommand(const SweepRequest& request) {
   report["kept_wall_vertices"] = envelope.kept_wall_vertices;
   report["kept_wall_depth_bound"] = outputNumber(envelope.kept_wall_depth_bound);  // (null: infinite)
   report["kept_wall_uncertified"] = envelope.kept_wall_uncertified;
+  report["cavity_vertices"] = envelope.cavity_vertices;
+  report["cavity_depth_bound"] = outputNumber(envelope.cavity_depth_bound);  // (null: infinite)
+  report["cavity_uncertified"] = envelope.cavity_uncertified;
   report["pocket_mouths_filled"] = envelope.pocket_mouths_filled;
   report["mouth_flaps_removed"] = envelope.mouth_flaps_removed;
   report["mouth_rim_faces_removed"] = envelope.mouth_rim_faces_removed;

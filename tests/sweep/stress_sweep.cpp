@@ -348,7 +348,7 @@ std::string runCase(const Case& c, long index, const Options& opt) {
   // Every failure of the gtest assertions below (and in checkEnvelope) lands here, not in a test.
   ::testing::TestPartResultArray failures;
   std::string status, detail;
-  bool uncertified_listed = false;  // (the envelope lists kept-wall vertices it could not certify)
+  bool uncertified_listed = false;  // (the envelope lists kept-wall or cavity vertices it could not certify)
   {
     ::testing::ScopedFakeTestPartResultReporter capture(
         ::testing::ScopedFakeTestPartResultReporter::INTERCEPT_ONLY_CURRENT_THREAD, &failures);
@@ -370,7 +370,7 @@ std::string runCase(const Case& c, long index, const Options& opt) {
       status = "THROW";
       head += format(" | sweep %.3fs | %s", t_sweep, detail.c_str());
     } else {
-      uncertified_listed = !env.kept_wall_uncertified.empty();
+      uncertified_listed = !env.kept_wall_uncertified.empty() || !env.cavity_uncertified.empty();
       const double t1 = seconds();
       // The library's own check of its output, beside checkEnvelope's inspectMesh.
       EXPECT_TRUE(env.check.closed) << "env.check.closed";
@@ -397,6 +397,7 @@ std::string runCase(const Case& c, long index, const Options& opt) {
       // vertex (a superset, so each is checked once); one that the oracle finds inside with no
       // outside point within T fails the case.
       std::vector<int> across_which = env.kept_wall_uncertified;
+      across_which.insert(across_which.end(), env.cavity_uncertified.begin(), env.cavity_uncertified.end());
       if (opt.all_vertices) {
         across_which.resize(env.vertices.size());
         std::iota(across_which.begin(), across_which.end(), 0);
@@ -412,6 +413,9 @@ std::string runCase(const Case& c, long index, const Options& opt) {
         notes += format(" | uncertified %zu: %zu deep", env.kept_wall_uncertified.size(), listed) +
                  (opt.all_vertices ? std::string() : format(", %d undecided", across.undecided));
       }
+      if (!env.cavity_uncertified.empty())
+        notes += format(" | cavity vertices %zu, %zu uncertified, bound %.3g eps", env.cavity_vertices,
+                        env.cavity_uncertified.size(), env.cavity_depth_bound / env.tolerance);
       if (env.check.shells > 1 && env.check.closed) {
         std::string summary;
         const std::string bad = verifyExtraShells(mesh, motion, env, c.seed, summary);

@@ -185,6 +185,15 @@ struct Envelope {
   /// a vertex at depth d is certified by 1.13 d, but a crack of outside space thinner than 1% of
   /// ε, ending at the vertex, may escape every probe).
   std::vector<int> kept_wall_uncertified;
+  /// The vertices of the envelope's inner shells: every shell but the one of largest volume (the
+  /// swept volume of a connected body is connected, so other shells bound cavities). They are
+  /// certified like the vertices of kept walls (see kept_wall_depth_bound): the largest bound
+  /// (0 when there is one shell), and the vertices whose bound exceeds ε (indices into
+  /// `vertices`, increasing; empty means every cavity vertex is certified within ε of the true
+  /// boundary).
+  std::size_t cavity_vertices = 0;
+  double cavity_depth_bound = 0;
+  std::vector<int> cavity_uncertified;
   /// Mouths of such pockets and cracks (loops of edges left with one face) closed by hole filling.
   std::size_t pocket_mouths_filled = 0;
   /// Faces left out because they lay across such a mouth: an edge on its rim and the third
