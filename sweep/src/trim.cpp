@@ -3112,8 +3112,8 @@ constexpr int kRimRounds = 2;
 // wall, so nothing was reported). Once every loop has a filling, each filling is covered by
 // points: its faces are cut in halves (fillingProbes) down to pieces within kFillingProbe
 // tessellation tolerances of their centroid, or with a larger spacing for a filling of more
-// than kFillingCover such pieces (about 1 ε² each), and the pieces within kFillingNear of the
-// loop are dropped (the loop lies on the envelope). Of those points the kFillingProbes
+// than kFillingCover such pieces (about 1 ε² each), and the pieces within kFillingNear (2 ε)
+// of the loop are dropped (the loop lies on the envelope). Of those points the kFillingProbes
 // farthest from the loop, where a flat filling strays most from a curved boundary, get a
 // certified depth bound (depth_bound.hpp, with the face's normal); a filling with a bound over
 // kFillingDepth ε fails like a loop with no filling, so the walls at its mouth are kept and
@@ -3858,7 +3858,8 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
       }
       const auto from = probes.begin() + static_cast<std::ptrdiff_t>(first);
       if (probes.size() - first > kFillingProbes) {
-        std::nth_element(from, from + kFillingProbes, probes.end(), [](const Probe& a, const Probe& b) { return a.reach > b.reach; });
+        std::nth_element(from, from + kFillingProbes, probes.end(),
+                         [](const Probe& a, const Probe& b) { return a.reach > b.reach; });
         probes.resize(first + kFillingProbes);
       }
     }
@@ -3868,7 +3869,7 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
       const Probe& q = probes[i];
       if (deep[static_cast<std::size_t>(q.loop)].load(std::memory_order_relaxed)) return;
       detail::SurfaceProbes p;
-      p.normals = {q.n, -q.n};
+      if (q.n.allFinite()) p.normals = {q.n, -q.n};  // (a face with no area has no normal)
       if (detail::depthBound(q.x, depth.eps, depth.delta, depth.inside, p) > kFillingDepth * depth.eps)
         deep[static_cast<std::size_t>(q.loop)].store(1, std::memory_order_relaxed);
     });

@@ -195,6 +195,10 @@ struct Envelope {
   double cavity_depth_bound = 0;
   std::vector<int> cavity_uncertified;
   /// Mouths of such pockets and cracks (loops of edges left with one face) closed by hole filling.
+  /// Before a filling is taken, the 16 points of it farthest from its loop (of points spread
+  /// over it, at least 2 ε from the loop) get the certified bound above; a filling with a bound
+  /// over 1.5 ε is refused, and the walls at its mouth are kept. Points nearer the loop are not
+  /// probed, so this is a check, not a certificate of the whole filling.
   std::size_t pocket_mouths_filled = 0;
   /// Faces left out because they lay across such a mouth: an edge on its rim and the third
   /// corner on the same rim (a flap folded over the mouth, whose rims are less than the 0.75 ε
