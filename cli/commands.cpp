@@ -719,7 +719,8 @@ std::string checkSummary(const steady::sweep::MeshCheck& c, bool checked) {
 
 // The summary's warnings when some vertex of the walls kept at mouths that could not be closed,
 // or of an inner shell, is not certified within the tolerance of the true boundary
-// (Envelope::kept_wall_uncertified, cavity_uncertified); empty otherwise.
+// (Envelope::kept_wall_uncertified, cavity_uncertified), or a mouth filling was taken with a
+// probe that is not (Envelope::deep_fillings_taken); empty otherwise.
 std::string uncertifiedWarning(const steady::sweep::Envelope& e) {
   auto bound = [](double b) { return std::isfinite(b) ? num(b) : std::string("over 8 x tolerance"); };
   std::string out;
@@ -731,6 +732,10 @@ std::string uncertifiedWarning(const steady::sweep::Envelope& e) {
     out += "; warning: " + count(e.cavity_uncertified.size(), "vertex", "vertices") +
            " of inner shells (cavities) not certified within the tolerance of the true boundary (bound " +
            bound(e.cavity_depth_bound) + "; indices in the report's cavity_uncertified)";
+  if (e.deep_fillings_taken > 0)
+    out += "; warning: " + count(e.deep_fillings_taken, "mouth filling", "mouth fillings") +
+           " taken with a probe not certified within the tolerance of the true boundary (bound " +
+           bound(e.filling_depth_bound) + "; the report's deep_fillings_taken)";
   return out;
 }
 
@@ -859,6 +864,8 @@ SweepOutput sweepCommand(const SweepRequest& request) {
   report["cavity_depth_bound"] = outputNumber(envelope.cavity_depth_bound);  // (null: infinite)
   report["cavity_uncertified"] = envelope.cavity_uncertified;
   report["pocket_mouths_filled"] = envelope.pocket_mouths_filled;
+  report["deep_fillings_taken"] = envelope.deep_fillings_taken;
+  report["filling_depth_bound"] = outputNumber(envelope.filling_depth_bound);  // (null: infinite)
   report["mouth_flaps_removed"] = envelope.mouth_flaps_removed;
   report["mouth_rim_faces_removed"] = envelope.mouth_rim_faces_removed;
   report["buried_dents_filled"] = envelope.buried_dents_filled;

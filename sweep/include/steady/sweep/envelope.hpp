@@ -195,11 +195,22 @@ struct Envelope {
   double cavity_depth_bound = 0;
   std::vector<int> cavity_uncertified;
   /// Mouths of such pockets and cracks (loops of edges left with one face) closed by hole filling.
-  /// Before a filling is taken, the 16 points of it farthest from its loop (of points spread
-  /// over it, at least 2 ε from the loop) get the certified bound above; a filling with a bound
-  /// over 1.5 ε is refused, and the walls at its mouth are kept. Points nearer the loop are not
-  /// probed, so this is a check, not a certificate of the whole filling.
+  /// Before a filling is taken, some of its points (of points spread over it, at least 2 ε from
+  /// the loop: the farthest from the loop on each of its faces, and the 16 farthest of the
+  /// rest) get the certified bound above; a filling with a bound over ε is refused, and the
+  /// walls at its mouth are kept. Its other points are not probed, so this is a check, not a
+  /// certificate of the whole filling.
   std::size_t pocket_mouths_filled = 0;
+  /// Of those fillings, how many were taken although a probe had a bound over ε: a mouth
+  /// whose filling is refused keeps its walls, which open new mouths, and the selection may
+  /// not settle; after the first 4 rounds of each series of 16, such fillings are taken rather
+  /// than refused again. Not 0 means that some filling may lie farther than ε from the true
+  /// boundary: see filling_depth_bound.
+  std::size_t deep_fillings_taken = 0;
+  /// The largest certified bound (world units, as kept_wall_depth_bound) over the probed points
+  /// of the fillings taken; infinity when some probe has no point across the boundary within 8
+  /// ε; 0 when no filling was probed.
+  double filling_depth_bound = 0;
   /// Faces left out because they lay across such a mouth: an edge on its rim and the third
   /// corner on the same rim (a flap folded over the mouth, whose rims are less than the 0.75 ε
   /// probe apart). Their other edges then become part of the mouth, which is closed as a whole.
@@ -211,7 +222,8 @@ struct Envelope {
   /// Vertices of three faces whose tip lay behind the triangle of their three neighbours (a
   /// dent, the apex of a thin fold of the tessellated strips) and poked into the swept volume:
   /// a probe 0.75 ε from the tip towards that triangle's outward side ended inside (the exact
-  /// inside test). Each such fan of three faces was replaced by that triangle.
+  /// inside test). Each such fan of three faces was replaced by that triangle, unless the
+  /// triangle's centroid, or the foot of the tip on it, has a certified bound (as above) over ε.
   std::size_t buried_dents_filled = 0;
   /// Vertices merged after rounding because they lay within 1e-13 times the envelope's box
   /// diagonal of another (distinct exact points a few ulps apart, whose rounded slivers would
