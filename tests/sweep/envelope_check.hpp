@@ -80,6 +80,26 @@ inline Mesh lShape(double h = 0.6) {
   return prism({{{0, 0}}, {{2, 0}}, {{2, 1}}, {{1, 1}}, {{1, 2}}, {{0, 2}}}, 0.0, h, 3);
 }
 
+// The prism over a polygon star-shaped about the z axis (corners (x, y) counter-clockwise),
+// from z = 0 to z1, its caps fanned from their centres (0, 0, 0) and (0, 0, z1).
+inline Mesh starPrismOf(const std::vector<std::array<double, 2>>& corners, double z1) {
+  const int n = static_cast<int>(corners.size());
+  Mesh m;
+  for (const double z : {0.0, z1})
+    for (const auto& p : corners) m.v.emplace_back(p[0], p[1], z);
+  const int bottom_centre = 2 * n, top_centre = 2 * n + 1;
+  m.v.emplace_back(0, 0, 0.0);
+  m.v.emplace_back(0, 0, z1);
+  for (int i = 0; i < n; ++i) {
+    const int j = (i + 1) % n;
+    m.f.push_back({top_centre, n + i, n + j});  // counter-clockwise seen from +z
+    m.f.push_back({bottom_centre, j, i});
+    m.f.push_back({i, j, n + j});
+    m.f.push_back({i, n + j, n + i});
+  }
+  return m;
+}
+
 inline Mesh transformed(Mesh m, const steady::Affine3& A) {
   for (auto& p : m.v) p = A.applyPoint(p);
   return m;

@@ -134,20 +134,7 @@ Mesh starPrism(std::mt19937_64& rng) {
     const double r = k % 2 ? uniform(rng, 0.25, 0.6) : uniform(rng, 0.7, 1.1);
     corners.push_back({r * std::cos(a), r * std::sin(a)});
   }
-  Mesh m;
-  for (const double z : {0.0, z1})
-    for (const auto& p : corners) m.v.emplace_back(p[0], p[1], z);
-  const int bottom_centre = 2 * n, top_centre = 2 * n + 1;
-  m.v.emplace_back(0, 0, 0.0);
-  m.v.emplace_back(0, 0, z1);
-  for (int i = 0; i < n; ++i) {
-    const int j = (i + 1) % n;
-    m.f.push_back({top_centre, n + i, n + j});  // counter-clockwise seen from +z
-    m.f.push_back({bottom_centre, j, i});
-    m.f.push_back({i, j, n + j});
-    m.f.push_back({i, n + j, n + i});
-  }
-  return m;
+  return starPrismOf(corners, z1);
 }
 
 // The case's mesh; none when it is CGAL's sphere and the build found no CGAL sample data.
@@ -348,7 +335,8 @@ std::string runCase(const Case& c, long index, const Options& opt) {
   // Every failure of the gtest assertions below (and in checkEnvelope) lands here, not in a test.
   ::testing::TestPartResultArray failures;
   std::string status, detail;
-  bool uncertified_listed = false;  // (the envelope lists kept-wall or cavity vertices it could not certify)
+  // (the envelope lists kept-wall or cavity vertices it could not certify, or took a deep filling)
+  bool uncertified_listed = false;
   {
     ::testing::ScopedFakeTestPartResultReporter capture(
         ::testing::ScopedFakeTestPartResultReporter::INTERCEPT_ONLY_CURRENT_THREAD, &failures);
@@ -370,7 +358,8 @@ std::string runCase(const Case& c, long index, const Options& opt) {
       status = "THROW";
       head += format(" | sweep %.3fs | %s", t_sweep, detail.c_str());
     } else {
-      uncertified_listed = !env.kept_wall_uncertified.empty() || !env.cavity_uncertified.empty();
+      uncertified_listed =
+          !env.kept_wall_uncertified.empty() || !env.cavity_uncertified.empty() || env.deep_fillings_taken > 0;
       const double t1 = seconds();
       // The library's own check of its output, beside checkEnvelope's inspectMesh.
       EXPECT_TRUE(env.check.closed) << "env.check.closed";
@@ -413,6 +402,9 @@ std::string runCase(const Case& c, long index, const Options& opt) {
         notes += format(" | uncertified %zu: %zu deep", env.kept_wall_uncertified.size(), listed) +
                  (opt.all_vertices ? std::string() : format(", %d undecided", across.undecided));
       }
+      if (env.deep_fillings_taken > 0)
+        notes += format(" | deep fillings taken %zu, bound %.3g eps", env.deep_fillings_taken,
+                        env.filling_depth_bound / env.tolerance);
       if (!env.cavity_uncertified.empty())
         notes += format(" | cavity vertices %zu, %zu uncertified, bound %.3g eps", env.cavity_vertices,
                         env.cavity_uncertified.size(), env.cavity_depth_bound / env.tolerance);
@@ -440,14 +432,15 @@ std::string runCase(const Case& c, long index, const Options& opt) {
       status = failures.size() == 0 ? "PASS" : voids && only_shell_count ? "VOID" : "FAIL";
       head += format(" | sweep %.3fs check %.2fs | tri %zu V %.6g A %.6g | check: closed %d manifold %d "
                      "oriented %d selfint %ld degenerate %ld shells %d vol %.6g | out<=%.3feps (%d/%d) "
-                     "bnd<=%.3feps (%d/%d, undec %d) cross %d/%d | buried %zu crack %zu mouths %zu thincav %zu "
-                     "thinsol %zu pinch %zu/%zu merged %zu retries %zu | kept %zu/%zu walls, %zu vertices, %zu "
+                     "bnd<=%.3feps (%d/%d, undec %d) cross %d/%d sides %d/%d (undec %d, worst %.3geps) | buried %zu "
+                     "crack %zu mouths %zu thincav %zu thinsol %zu pinch %zu/%zu merged %zu retries %zu | kept %zu/%zu walls, %zu vertices, %zu "
                      "uncertified, bound %.3g eps",
                      t_sweep, t_check, env.triangles.size(), env.volume, env.area, env.check.closed, env.check.manifold,
                      env.check.oriented, env.check.self_intersections, env.check.degenerate_faces, env.check.shells,
                      env.check.volume, st.worst_outside, st.containment_failed, st.containment_checked,
                      st.worst_boundary, st.boundary_failed, st.boundary_checked, st.boundary_undecided,
-                     st.cross_mismatched, st.cross_checked,
+                     st.cross_mismatched, st.cross_checked, st.sides_failed, st.sides_checked, st.sides_undecided,
+                     st.worst_side,
                      env.buried_patches_removed, env.crack_faces_removed, env.pocket_mouths_filled,
                      env.thin_cavities_removed, env.thin_solids_removed, env.pinched_vertices_split,
                      env.pinches_touching, env.rounding_merged, env.ray_retries, env.buried_patches_kept,

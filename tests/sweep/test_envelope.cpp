@@ -1040,7 +1040,7 @@ TEST(Envelope, BuriedPatchEndThatWasDeepLiesWithinTolerance) {
 }
 
 // The four poses of a campaign case's polySAM (the stress harness's keyframes, at equal times).
-Motion3 polySamOf(const std::array<std::array<double, 12>, 4>& rows) {
+Motion3 polySamOf(const std::vector<std::array<double, 12>>& rows) {
   std::vector<Affine3> poses;
   for (const auto& r : rows) poses.push_back(Affine3::fromMatrix(Eigen::Map<const Eigen::Matrix<double, 3, 4, Eigen::RowMajor>>(r.data())));
   return Motion3::polySam(poses);
@@ -1055,7 +1055,7 @@ Motion3 polySamOf(const std::array<std::array<double, 12>, 4>& rows) {
 // inside the envelope or within eps of it, vertices and face points alike.
 TEST(Envelope, FillingsThatCutIntoTheSweptVolumeAreRejected) {
   const Mesh m = torus(0.7, 0.25, 12, 6);
-  const Motion3 motion = polySamOf({{
+  const Motion3 motion = polySamOf({
       {0.8192651677636158, 0.47197017477705755, -0.32565125365975217, -0.43013597946053594, -0.52361769502525346,
        0.84725285360338154, -0.089370641249615829, 0.11929598202713299, 0.23372867677222481, 0.24373501221991203,
        0.94125668628300552, 0.3850085767905127},
@@ -1068,7 +1068,7 @@ TEST(Envelope, FillingsThatCutIntoTheSweptVolumeAreRejected) {
       {1.2309642774921652, 0.41640074852003783, -0.17299667907134902, -0.87092635560452636, -0.49611878229683615,
        0.35114262116515732, 0.11667497287573048, 2.161185296778513, 0.089678334931730497, -0.0090615296546373569,
        0.49175628269443933, 2.1441773273919122},
-  }});
+  });
   const Envelope env = sweep(m, motion, 2e-3);
   expectOneEmbeddedShell(env);
   const MovingBody mb(m, motion);
@@ -1093,6 +1093,116 @@ TEST(Envelope, FillingsThatCutIntoTheSweptVolumeAreRejected) {
               checked, worst, env.pocket_mouths_filled, env.buried_patches_kept, env.crack_faces_kept);
 }
 
+// The envelope of m along the motion (relative tolerance rel), one embedded shell, and the
+// check of its face interiors (checkFaceSides, every face, seeded). A face that fails it must
+// be reported by the envelope: a filling taken with a probe deeper than eps
+// (Envelope::deep_fillings_taken), whose bound covers the failure.
+SideCheck sweepAndCheckFaceSides(const Mesh& m, const Motion3& motion, double rel, std::uint64_t seed, Envelope& env) {
+  env = sweep(m, motion, rel);
+  expectOneEmbeddedShell(env);
+  std::mt19937_64 rng(seed);
+  ::testing::TestPartResultArray failures;
+  SideCheck sides;
+  {
+    ::testing::ScopedFakeTestPartResultReporter reporter(::testing::ScopedFakeTestPartResultReporter::INTERCEPT_ONLY_CURRENT_THREAD,
+                                                         &failures);
+    sides = checkFaceSides(env, MovingBody(m, motion), SweptVolume(makeBody(m), motion), env.triangles.size(), rng);
+  }
+  if (sides.failed > 0) {
+    EXPECT_GT(env.deep_fillings_taken, 0u) << sides.failed << " faces off the true boundary, none reported; the first: "
+                                           << failures.GetTestPartResult(0).message();
+    EXPECT_GE(env.filling_depth_bound, sides.worst * env.tolerance) << "the faces lie farther off than reported";
+  }
+  return sides;
+}
+
+// The stress campaign's star prism on a polySAM of four poses (case 224, tolerance 1e-3): before
+// the filling probes, mouth fillings lay across a concave stretch of the swept volume's
+// boundary, up to more than 8 eps outside it, every vertex on the boundary; the vertex checks
+// passed. The check of face interiors (checkFaceSides) sees it: without the probes' refusal (a
+// temporary switch) 31 faces fail, their centroids at least 1.2 to 2.7 eps outside the swept
+// volume, and nothing is reported. Now the fillings are refused in the first mouth rounds and
+// the walls at those mouths kept (3 of their vertices listed as uncertified, which the
+// campaign's across check confirms); one filling, still deep when the refusals stop, is taken
+// and reported (bound 8 eps), and the 4 faces that fail the check lie within that bound.
+TEST(Envelope, FillingsThatBulgeOutOfTheSweptVolumeAreRefusedOrReported) {
+  const Mesh m = starPrismOf({{{0.9876496841295046, 0.07722852597965268},
+                               {0.30548657424341935, 0.2073294056036241},
+                               {0.390462752955827, 0.5814630351681107},
+                               {0.05960259439027066, 0.4305519219359564},
+                               {-0.422764802142331, 0.6625102121624774},
+                               {-0.302035187755121, 0.14526900742770507},
+                               {-0.8861320269957002, 0.09701949009864451},
+                               {-0.2668063320010029, -0.1245497328876179},
+                               {-0.4132628476590741, -0.7408086587525701},
+                               {0.05426346332229743, -0.4850199494483198},
+                               {0.4074467675850175, -0.6709140644374049},
+                               {0.35066241387930647, -0.263139594188123}}},
+                             0.35744096812051745);
+  const Motion3 motion = polySamOf({
+      {0.75106171360725638, -0.53623680291756215, -0.38517060317485696, -0.34637589477570341, 0.36437407025014612,
+       -0.14984072845246138, 0.91911875893497974, -0.26963627833704518, -0.55057954855104552, -0.8306610905138071,
+       0.08285115221733233, -0.40154232213682672},
+      {0.12277027268666729, 0.98764064666289486, -0.097434148037227442, 1.6529177679387761, -0.67055748918214075,
+       0.15492779294145737, 0.72549985022467944, 0.99203431806931996, 0.73162839874227437, -0.023734616777775969,
+       0.68129035962666296, -0.84453976904002515},
+      {0.12277027268666729, 0.98764064666289486, -0.097434148037227442, 0.15157985430205678, -0.67055748918214075,
+       0.15492779294145737, 0.72549985022467944, 0.19125210845303398, 0.73162839874227437, -0.023734616777775969,
+       0.68129035962666296, -0.72809445072715984},
+      {0.9479198150307595, 0.028145208946887545, -0.31726309505737826, -1.9317091214068414, 0.30283599624279445,
+       0.22897508497627014, 0.92512743437849954, -0.75884337828960424, 0.098683249093678399, -0.97302531193872155,
+       0.20852663780646635, 1.6126985708376242},
+  });
+  Envelope env;
+  const SideCheck sides = sweepAndCheckFaceSides(m, motion, 1e-3, 224, env);
+  EXPECT_LE(sides.undecided, 2);
+  std::printf("[ info     ] star polySAM concave mouths: %d face side points, %d suspects, %d faces fail (worst %.2f "
+              "eps), %d undecided; kept %zu crack faces, %zu vertices uncertified; %zu deep fillings taken (bound %.2f "
+              "eps)\n",
+              sides.checked, sides.suspects, sides.failed, sides.worst, sides.undecided, env.crack_faces_kept,
+              env.kept_wall_uncertified.size(), env.deep_fillings_taken, env.filling_depth_bound / env.tolerance);
+}
+
+// The stress campaign's star prism translated along two spans (case 764, tolerance 1e-3): the
+// swept volume is a polyhedron and the envelope has 206 faces, 6 of them dent triangles
+// (fillBuriedDents) about 1 across, whose centroids stood 1.1 to 2.5 eps off the true boundary
+// with every vertex on it. A dent triangle is now probed (its centroid and the foot of the tip)
+// and refused when it strays farther than eps; with the probes taken out, the face check fails
+// on 5 faces.
+TEST(Envelope, DentTrianglesOffTheTrueBoundaryAreRefused) {
+  const Mesh m = starPrismOf({{{0.8126095088906724, 0.0028863312554753525},
+                               {0.30741873677927994, 0.19695856930488287},
+                               {0.387009829914174, 0.6285717107269947},
+                               {-0.010609420977256463, 0.48403402985898136},
+                               {-0.4804621583058014, 0.6764944358387301},
+                               {-0.4592165003636003, 0.2790004539030773},
+                               {-0.7044946593393617, 0.07336729435548676},
+                               {-0.26166375732044894, -0.15359595155777675},
+                               {-0.5368528188286759, -0.6643299803443169},
+                               {-0.03665043364046616, -0.29475350285687146},
+                               {0.3403132188225882, -0.6772597219856619},
+                               {0.26790305667914555, -0.14453859961729582}}},
+                             0.42148485087135534);
+  const Motion3 motion = polySamOf({
+      {0.91609154510687252, -0.19793058257890431, -0.34871157919357715, -0.49800802752241291, 0.37204660605462958,
+       0.74389946888341418, 0.55515304477072414, 0.062026660621168905, 0.14952459298367671, -0.63830797008571805,
+       0.75511941533648574, 0.26668117455767326},
+      {0.91609154510687252, -0.19793058257890431, -0.34871157919357715, -1.4430468018573279, 0.37204660605462958,
+       0.74389946888341418, 0.55515304477072414, 0.88014795067467311, 0.14952459298367671, -0.63830797008571805,
+       0.75511941533648574, 2.2653425729365271},
+      {0.91609154510687252, -0.19793058257890431, -0.34871157919357715, -1.7415796553499441, 0.37204660605462958,
+       0.74389946888341418, 0.55515304477072414, -0.28080335680260993, 0.14952459298367671, -0.63830797008571805,
+       0.75511941533648574, 1.1944297246551323},
+  });
+  Envelope env;
+  const SideCheck sides = sweepAndCheckFaceSides(m, motion, 1e-3, 764, env);
+  EXPECT_EQ(sides.failed, 0);
+  EXPECT_EQ(sides.undecided, 0);
+  std::printf("[ info     ] star translated along two spans: %zu faces, %zu dents filled, %d face side points, %d "
+              "suspects\n",
+              env.triangles.size(), env.buried_dents_filled, sides.checked, sides.suspects);
+}
+
 // The stress campaign's torus on a polySAM of four poses (case 22339, tolerance 2e-3): the
 // envelope has two inner shells, cavities the true sweep has too, but one vertex of one lies
 // 1.28 eps off the true boundary (by the campaign's oracle). Nothing reported it: only the
@@ -1102,7 +1212,7 @@ TEST(Envelope, FillingsThatCutIntoTheSweptVolumeAreRejected) {
 // must be listed.
 TEST(Envelope, CavityVerticesOffTheTrueBoundaryAreListed) {
   const Mesh m = torus(0.7, 0.25, 12, 6);
-  const Motion3 motion = polySamOf({{
+  const Motion3 motion = polySamOf({
       {-0.086046980105537907, -0.33959573025295114, -0.93662727763432252, 0.37465429444717757, -0.97777350060414481,
        -0.15162787392834831, 0.14480320909526023, 0.36497839607751592, -0.1911933543066649, 0.9282692108660795,
        -0.31900058530829106, 0.076307882882814981},
@@ -1115,7 +1225,7 @@ TEST(Envelope, CavityVerticesOffTheTrueBoundaryAreListed) {
       {0.89645746006770477, -0.43877913476736219, -0.061942660434992906, 0.59198606321615777, -0.39899387495608435,
        -0.73842988181379243, -0.54362229294979902, 1.0003995488228594, 0.19278980791651884, 0.51204900208600512,
        -0.83704116351959557, -0.88300660921372132},
-  }});
+  });
   const Envelope env = sweep(m, motion, 2e-3);
   EXPECT_GT(env.cavity_vertices, 0u) << "the envelope has no cavity any more: pick another case";
   // (the vertices of the shells other than the one of largest volume)
@@ -1214,6 +1324,39 @@ TEST(Envelope, ContainsEveryPosedBodyOnRandomMotions) {
       std::mt19937_64 check_rng(1000 + static_cast<unsigned>(n));
       checkEnvelope(mesh, motion, env, epsOf(mesh, rel), check_rng, mname + "/" + motionName(kind), co);
     }
+}
+
+// The face side check itself (checkFaceSides) must see a face off the true boundary whose
+// vertices all lie on it: the L prism translated along z, against the prism over the L's convex
+// hull, whose faces across the notch stand up to 0.71 off the true boundary. The true envelope
+// of the same sweep passes.
+TEST(EnvelopeOracle, FaceSidesSeeAFaceAcrossAConcaveNotch) {
+  const Mesh m = lShape(0.6);
+  const Motion3 motion = single(Affine3(), Affine3::translation(V(0, 0, 0.1)));
+  const MovingBody mb(m, motion);
+  const SweptVolume sv(makeBody(m), motion);
+  std::mt19937_64 rng(7);
+  const Envelope good = sweep(m, motion);
+  EXPECT_EQ(checkFaceSides(good, mb, sv, good.triangles.size(), rng).failed, 0);
+  const Mesh hull = prism({{{0, 0}}, {{2, 0}}, {{2, 1}}, {{1, 2}}, {{0, 2}}}, 0.0, 0.7, 0);
+  Envelope bad;
+  bad.vertices = hull.v;
+  bad.triangles = hull.f;
+  bad.tolerance = good.tolerance;
+  ::testing::TestPartResultArray failures;
+  SideCheck c;
+  {
+    ::testing::ScopedFakeTestPartResultReporter reporter(::testing::ScopedFakeTestPartResultReporter::INTERCEPT_ONLY_CURRENT_THREAD,
+                                                         &failures);
+    c = checkFaceSides(bad, mb, sv, bad.triangles.size(), rng);
+  }
+  // (at least the two side faces across the notch, whose centroids lie 0.24 to 0.47 from the
+  // L: 80 to 160 eps)
+  EXPECT_GE(c.failed, 2);
+  EXPECT_EQ(failures.size(), std::min(c.failed, kMaxMessages));
+  EXPECT_GT(c.worst, 50.0);
+  for (int i = 0; i < failures.size(); ++i)
+    EXPECT_NE(std::string(failures.GetTestPartResult(i).message()).find("from every posed body"), std::string::npos);
 }
 
 // ---- inspectMesh and bad input -----------------------------------------------------------------
