@@ -2637,7 +2637,7 @@ constexpr int kMouthRounds = 16;
 // Rounds (of each kMouthRounds series) in which a filling deeper than kFillingDepth ε is
 // refused; later it is taken and counted (Envelope::deep_fillings_taken). Refusing keeps the
 // walls at that mouth, whose pieces open new mouths, and the selection need not settle: on
-// bunny00's screw at 1e-3 (the mesh at a position slightly off the benchmark's), refusing in
+// bunny00's screw at 1e-3 (a copy at unit diagonal, not the benchmark's), refusing in
 // every round found 1 to 5 deep fillings or a new failing mouth in each of the 2 x 16 rounds,
 // so all 25,178 crack faces and 106,436 buried patches were kept, 1,103 vertices listed, 82 s in
 // the output stage. Refusing in the first 8 rounds: 231 crack faces and 1,765 buried patches
