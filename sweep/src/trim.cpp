@@ -2657,7 +2657,8 @@ constexpr int kRefuseRounds = 4;
 // the loop on each face, and the kFillingProbes farthest of the rest (where a flat filling
 // strays most from a curved boundary), get a certified depth bound (depth_bound.hpp, with the
 // face's normal); a filling with a bound over kFillingDepth ε fails like a loop with no filling,
-// so the walls at its mouth are kept and certified. Not a certificate of the whole filling: its
+// so the walls at its mouth are kept and certified (in the first kRefuseRounds mouth rounds;
+// later it is taken and reported, see there). Not a certificate of the whole filling: its
 // other points are not probed. Campaign cases 19,800 to 23,399: 22969 passes; 21414 keeps
 // walls, 7 vertices listed; a bracket polySAM (20684) that passed had a filling 8 ε deep inside
 // the swept volume, 15 ε from its loop, a thin slit of outside space below it that no oracle
@@ -2681,6 +2682,13 @@ constexpr double kFillingDepth = 1.0;
 struct DepthTest {
   std::function<bool(const Vec&)> inside;
   double eps = 0, delta = 0;
+  // The certified bound at x on a flat filling of unit normal n (probed across it both ways; a
+  // normal that is not finite, of a face with no area, is left out).
+  double boundAt(const Vec& x, const Vec& n) const {
+    detail::SurfaceProbes p;
+    if (n.allFinite()) p.normals = {n, -n};
+    return detail::depthBound(x, eps, delta, inside, p);
+  }
 };
 // What fillMouths measured of the fillings it took: the largest depth bound of their probes and
 // how many had one over kFillingDepth ε (taken only in the late rounds, see kRefuseRounds).
@@ -2767,15 +2775,12 @@ std::size_t fillBuriedDents(const std::vector<Vec>& V, std::vector<Tri>& T, doub
       cut = (mlo.array() <= hi.array()).all() && (lo.array() <= mhi.array()).all() && crosses(P, n, m);
     }
     if (cut) continue;
-    detail::SurfaceProbes probes;
-    probes.normals = {out, -out};
     const Vec centroid = (a + b + c) / 3.0;
     const Vec foot = V[v] - out.dot(V[v] - a) * out;
     const bool foot_inside = out.dot((b - a).cross(foot - a)) >= 0 && out.dot((c - b).cross(foot - b)) >= 0 &&
                              out.dot((a - c).cross(foot - c)) >= 0;
     const double limit = kFillingDepth * depth.eps;
-    if (detail::depthBound(centroid, depth.eps, depth.delta, inside_swept, probes) > limit ||
-        (foot_inside && detail::depthBound(foot, depth.eps, depth.delta, inside_swept, probes) > limit))
+    if (depth.boundAt(centroid, out) > limit || (foot_inside && depth.boundAt(foot, out) > limit))
       continue;
     for (int k = 0; k < 3; ++k) dropped[static_cast<std::size_t>(fs[k])] = 1;
     added.push_back(n);
@@ -3920,9 +3925,7 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
       const Probe& q = probes[i];
       // (a loop refused already needs no more probes)
       if (refuse_deep && deep[static_cast<std::size_t>(q.loop)].load(std::memory_order_relaxed)) return;
-      detail::SurfaceProbes p;
-      if (q.n.allFinite()) p.normals = {q.n, -q.n};  // (a face with no area has no normal)
-      bound[i] = detail::depthBound(q.x, depth.eps, depth.delta, depth.inside, p);
+      bound[i] = depth.boundAt(q.x, q.n);
       if (bound[i] > limit) deep[static_cast<std::size_t>(q.loop)].store(1, std::memory_order_relaxed);
     });
     for (std::size_t l = 0; l < loops.size(); ++l)
