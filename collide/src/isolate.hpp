@@ -2,8 +2,10 @@
 // Guaranteed root isolation of a smooth function of span time, shared by every contact feature.
 //
 // A feature function F provides
-//   typename F::Sample sample(double s) const;   // with members g, gp (value and derivative at
-//                                                 // s), eps, epsd (their rounding tolerances)
+//   typename F::Sample sample(double s) const;   // with members g, gp, gpp (value, first and
+//                                                 // second derivative at s; gpp is optional
+//                                                 // and only steers the refinement), eps, epsd
+//                                                 // (the rounding tolerances of g and gp)
 //   Bounds bounds(const Sample& c, double r) const;  // valid for |s - c| <= r:
 //       D     >= |g'(s) - g'(c)|
 //       reach >= |g(s) - g(c)|
@@ -18,6 +20,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <type_traits>
+#include <utility>
 
 namespace steady::detail {
 
@@ -34,6 +40,28 @@ inline double phi2(double z) {
   if (z < 1e-3) return 0.5 + z * (1.0 / 6 + z * (1.0 / 24 + z / 120));
   return (std::expm1(z) - z) / (z * z);
 }
+// Both of them from one expm1, the same values as phi1(z) and phi2(z) (the derivative bounds
+// need both per interval; expm1 was a twentieth of a point/plane solve's time). The searches
+// halve from one span's [0, 1] again and again, so z = r |M| takes the same few values: a
+// per-thread memo, direct-mapped on the exact bits of z, returns what the formula gave.
+struct Phis {
+  double p1, p2;
+};
+inline Phis phis(double z) {
+  if (z < 1e-3) return {phi1(z), phi2(z)};
+  struct Slot {
+    std::uint64_t bits = 0;  // (0 is z = +0, never stored: z >= 1e-3 here)
+    Phis value{0, 0};
+  };
+  thread_local std::array<Slot, 64> memo;
+  std::uint64_t bits;
+  std::memcpy(&bits, &z, sizeof bits);
+  Slot& slot = memo[((bits ^ (bits >> 31)) * 0x9E3779B97F4A7C15ull) >> 58];
+  if (slot.bits == bits) return slot.value;
+  const double e = std::expm1(z);
+  slot = {bits, {e / z, (e - z) / (z * z)}};
+  return slot.value;
+}
 
 // An upper bound of the spectral norm of M (its largest singular value): the eigen-solve of
 // M^T M, inflated by 1e-12 relative so that its rounding cannot make it an underestimate, capped
@@ -47,6 +75,12 @@ inline double spectralBound(const Eigen::Matrix3d& M) {
 // dozen flops on positive numbers).
 constexpr double kBoundSlack = 1.0 + 1e-12;
 
+// Whether a feature's samples carry g'' (member gpp).
+template <class S, class = void>
+struct HasSecondDerivative : std::false_type {};
+template <class S>
+struct HasSecondDerivative<S, std::void_t<decltype(std::declval<S>().gpp)>> : std::true_type {};
+
 template <class F, class Visit>
 void isolateRoots(const F& f, double s0, double s1, const RootOptions& o, Visit&& visit) {
   using Sample = typename F::Sample;
@@ -54,11 +88,21 @@ void isolateRoots(const F& f, double s0, double s1, const RootOptions& o, Visit&
 
   // Refines the root bracketed by sign(g(lo)) = sl != sign(g(hi)) on an interval where
   // |g'| >= gmin > 0. By the mean value theorem the root lies within (|g(t)| + eps) / gmin of
-  // any t, so safeguarded Newton steps stop as soon as that radius is below half the time
+  // any t, so safeguarded Halley (or Newton) steps stop as soon as that radius is below half the time
   // tolerance, or below the noise band 2 eps / gmin when rounding does not allow the tolerance.
-  auto refine = [&](double lo, double hi, int sl, const Sample& slo, double gmin) {
-    double t = slo.gp != 0 ? lo - slo.g / slo.gp : 0.5 * (lo + hi);
-    if (!(t > lo && t < hi)) t = 0.5 * (lo + hi);
+  // The first guess interpolates the inverse function through the three samples at lo, the
+  // middle and hi (a quadratic in g), or falls back to the secant of the ends: Newton from lo
+  // took four samples per root on average, the last ones off the power cache.
+  auto refine = [&](double lo, double hi, int sl, const Sample& slo, const Sample& smid, const Sample& shi,
+                    double gmin) {
+    const double mid = 0.5 * (lo + hi);
+    const double ga = slo.g, gc = smid.g, gb = shi.g;
+    double t = lo - ga * (hi - lo) / (gb - ga);
+    if ((ga - gc) * (gc - gb) > 0) {  // (g monotone through the three samples: distinct values)
+      t = lo * gc * gb / ((ga - gc) * (ga - gb)) + mid * ga * gb / ((gc - ga) * (gc - gb)) +
+          hi * ga * gc / ((gb - ga) * (gb - gc));
+    }
+    if (!(t > lo && t < hi)) t = mid;
     double est = t;
     for (int it = 0; it < 200 && hi - lo > tol; ++it) {
       const Sample st = f.sample(t);
@@ -70,7 +114,14 @@ void isolateRoots(const F& f, double s0, double s1, const RootOptions& o, Visit&
         break;
       }
       if (signOf(st.g) == sl) lo = t; else hi = t;
-      double next = st.gp != 0 ? t - st.g / st.gp : 0.5 * (lo + hi);
+      // (Halley's step where the sample has g'': cubic convergence; else Newton's)
+      double next = 0.5 * (lo + hi);
+      if constexpr (HasSecondDerivative<Sample>::value) {
+        const double den = 2 * st.gp * st.gp - st.g * st.gpp;
+        if (den != 0) next = t - 2 * st.g * st.gp / den;
+      } else {
+        if (st.gp != 0) next = t - st.g / st.gp;
+      }
       if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
       t = next;
     }
@@ -123,7 +174,7 @@ void isolateRoots(const F& f, double s0, double s1, const RootOptions& o, Visit&
         p.t = p.lo = p.hi = b;
         p.crossing = dir;
       } else if (signOf(sa.g) != signOf(sb.g)) {
-        p = refine(a, b, signOf(sa.g), sa, std::abs(sc.gp) - sc.epsd - bd.D);
+        p = refine(a, b, signOf(sa.g), sa, sc, sb, std::abs(sc.gp) - sc.epsd - bd.D);
       } else {
         continue;
       }

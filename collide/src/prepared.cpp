@@ -326,9 +326,10 @@ class TreeQuery {
     const double x0 = B.translation().norm() + B.linear().norm() * body_.vmax;
     f.round = kRound * (xmid + x0 + f.Pm.translation().norm() + f.Pm.linear().norm() * x0);
     f.mag = std::max(xmid, st_.lo.cwiseAbs().cwiseMax(st_.hi.cwiseAbs()).maxCoeff());
-    f.grow = r * phi1(r * sc.mu) * kBoundSlack * (1 + 1e-12);
+    const detail::Phis p = detail::phis(r * sc.mu);
+    f.grow = r * p.p1 * kBoundSlack * (1 + 1e-12);
     f.r = r * kBoundSlack * (1 + 1e-12);
-    f.rxm = r * r * phi2(r * sc.mu) * kBoundSlack * (1 + 1e-12);
+    f.rxm = r * r * p.p2 * kBoundSlack * (1 + 1e-12);
     return f;
   }
 

@@ -56,7 +56,7 @@ void checkRange(double s0, double s1, const char* what) {
 struct PointPlaneFn {
   using Vector = Eigen::Vector3d;
   struct Sample {
-    double g, gp, eps, epsd;
+    double g, gp, gpp, eps, epsd;
     double vn;  // |v(x(s))|
   };
   const SpanRoots& sr;
@@ -72,16 +72,16 @@ struct PointPlaneFn {
     const Vector x = P.applyPoint(x0);
     const Vector v = M * x + u;
     const double xs = x.norm() + x0n * ln + tn;
-    return {m.dot(x) - h, m.dot(v), ulps * (mn * xs + std::abs(h)), ulps * mn * (mu * xs + un), v.norm()};
+    return {m.dot(x) - h, m.dot(v), m.dot(M * v), ulps * (mn * xs + std::abs(h)), ulps * mn * (mu * xs + un), v.norm()};
   }
   // g'(s) - g'(c) = m^T M (L^(s-c) - 1) v_c / ... bounded by |M^T m| |v_c| r phi1(r mu); the
   // path length |x(s) - x(c)| <= |v_c| r phi1(r mu) bounds |g(s) - g(c)| directly too.
   Bounds bounds(const Sample& c, double r) const {
-    const double z = r * mu, w = wm * c.vn;
+    const double w = wm * c.vn;
+    const detail::Phis p = detail::phis(r * mu);
     Bounds b;
-    b.D = kBoundSlack * w * r * phi1(z);
-    b.reach = std::min(std::abs(c.gp) * r + kBoundSlack * w * r * r * phi2(z),
-                       kBoundSlack * mn * c.vn * r * phi1(z));
+    b.D = kBoundSlack * w * r * p.p1;
+    b.reach = std::min(std::abs(c.gp) * r + kBoundSlack * w * r * r * p.p2, kBoundSlack * mn * c.vn * r * p.p1);
     return b;
   }
 };
@@ -90,7 +90,7 @@ struct PointPlaneFn {
 struct EdgeEdgeFn {
   using Vector = Eigen::Vector3d;
   struct Sample {
-    double g, gp, eps, epsd;
+    double g, gp, gpp, eps, epsd;
     double en, men, mmen, vn, mvn, wn, nn;  // |e|, |M e|, |M^2 e|, |v|, |M v|, |q0 - x|, |e x d|
   };
   const SpanRoots& sr;
@@ -112,6 +112,7 @@ struct EdgeEdgeFn {
     Sample r;
     r.g = n.dot(w);
     r.gp = me.cross(d).dot(w) - n.dot(v);
+    r.gpp = mme.cross(d).dot(w) - 2 * me.cross(d).dot(v) - n.dot(mv);
     r.en = e.norm();
     r.men = me.norm();
     r.mmen = mme.norm();
