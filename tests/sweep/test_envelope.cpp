@@ -1163,6 +1163,50 @@ TEST(Envelope, FillingsThatBulgeOutOfTheSweptVolumeAreRefusedOrReported) {
               env.kept_wall_uncertified.size(), env.deep_fillings_taken, env.filling_depth_bound / env.tolerance);
 }
 
+// The stress campaign's star prism on a polySAM of four poses (case 2024, tolerance 1e-3): the
+// mouths' depth checks found 6 deep fillings in round 2 and 4 in round 4, the first round in
+// which they were no longer refused; taken, they left 3 faces up to 1.08 eps off the true
+// boundary (reported by deep_fillings_taken). A check that finds fewer deep fillings than the
+// one before it now refuses them still (see kRefuseRounds in trim.cpp): the next round finds
+// none, and every face lies on the true boundary.
+TEST(Envelope, DeepFillingsAreRefusedWhileTheirCountFalls) {
+  const Mesh m = starPrismOf({{{0.72949891118408217, -0.094368276446845506},
+                               {0.27651483745537903, 0.11977953320570781},
+                               {0.36285666385269316, 0.76683474432860543},
+                               {0.04024359284369311, 0.30724282234661726},
+                               {-0.26610179977098769, 0.67896736293380433},
+                               {-0.47051272447969672, 0.28598405818300993},
+                               {-0.9616130484352241, 0.13297618142159542},
+                               {-0.33905261866002556, -0.24980495613691628},
+                               {-0.56022498364012929, -0.73431101019949518},
+                               {-0.022496079533362311, -0.39418147731896802},
+                               {0.45511881003427879, -0.881707654176623},
+                               {0.30265876464875174, -0.11949629216379637}}},
+                             0.34658895605043555);
+  const Motion3 motion = polySamOf({
+      {0.84840663165306074, 0.52706161554414477, -0.049114567972284057, -0.35671323686875567, -0.26183456590620008,
+       0.3372063601217915, -0.90428675252384649, 0.22559416744929606, -0.46005309200549849, 0.78006276934193508,
+       0.42409106147473974, 0.073202668700679707},
+      {0.26485167386071934, 0.83859349530713523, -0.84453455483350492, -0.82356147179249573, -0.45205974354441197,
+       0.76857480497476716, -1.0531349649141142, 0.70044464414551721, -0.79183094612395077, 1.9727399074566474,
+       0.23047340494080287, -0.27052317739102805},
+      {0.51584366410403726, -0.45722817844633257, -0.63094214513256075, 0.11501842501754012, -1.0268064585118013,
+       2.0636373167585536, -1.8636099207411365, 1.7260380259853847, -0.20891557004568129, 2.6726183335471854,
+       -0.16324325245154681, -2.427226321136073},
+      {1.6081035494172968, -3.2905345130575325, -0.10888006875059386, 0.72528424781990486, -1.182372430868293,
+       1.9067786359640482, -2.4446858165307361, 3.6833773867878428, 0.065554706469349799, 1.7592274419469742,
+       -1.7744046791106745, 0.21334424052033263},
+  });
+  Envelope env;
+  const SideCheck sides = sweepAndCheckFaceSides(m, motion, 1e-3, 2024, env);
+  EXPECT_EQ(env.deep_fillings_taken, 0u) << "bound " << env.filling_depth_bound / env.tolerance << " eps";
+  EXPECT_EQ(sides.failed, 0) << "worst " << sides.worst << " eps";
+  EXPECT_TRUE(env.kept_wall_uncertified.empty());
+  std::printf("[ info     ] star polySAM, deep fillings refused while fewer: %d face side points, %d suspects, %d faces "
+              "fail; kept %zu crack faces, %zu buried patches\n",
+              sides.checked, sides.suspects, sides.failed, env.crack_faces_kept, env.buried_patches_kept);
+}
+
 // The stress campaign's star prism translated along two spans (case 764, tolerance 1e-3): the
 // swept volume is a polyhedron and the envelope has 206 faces, 6 of them dent triangles
 // (fillBuriedDents) about 1 across, whose centroids stood 1.1 to 2.5 eps off the true boundary

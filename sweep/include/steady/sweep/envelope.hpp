@@ -204,7 +204,8 @@ struct Envelope {
   /// Of those fillings, how many were taken although a probe had a bound over ε: a mouth
   /// whose filling is refused keeps its walls, which open new mouths, and the selection may
   /// not settle; after the first 4 rounds of each series of 16, such fillings are taken rather
-  /// than refused again. Not 0 means that some filling may lie farther than ε from the true
+  /// than refused again, unless the check finds fewer of them than the check before it (the
+  /// refusals are then converging). Not 0 means that some filling may lie farther than ε from the true
   /// boundary: see filling_depth_bound.
   std::size_t deep_fillings_taken = 0;
   /// The largest certified bound (world units, as kept_wall_depth_bound) over the probed points
