@@ -88,8 +88,9 @@ void isolateRoots(const F& f, double s0, double s1, const RootOptions& o, Visit&
 
   // Refines the root bracketed by sign(g(lo)) = sl != sign(g(hi)) on an interval where
   // |g'| >= gmin > 0. By the mean value theorem the root lies within (|g(t)| + eps) / gmin of
-  // any t, so safeguarded Halley (or Newton) steps stop as soon as that radius is below half the time
-  // tolerance, or below the noise band 2 eps / gmin when rounding does not allow the tolerance.
+  // any t, so safeguarded Halley (or Newton) steps stop as soon as that radius is below half
+  // the time tolerance, or below the noise band 2 eps / gmin when rounding does not allow the
+  // tolerance.
   // The first guess interpolates the inverse function through the three samples at lo, the
   // middle and hi (a quadratic in g), or falls back to the secant of the ends: Newton from lo
   // took four samples per root on average, the last ones off the power cache.

@@ -2703,8 +2703,8 @@ struct FillingDepths {
   double bound = 0;
   std::size_t deep = 0;
 };
-// fillMouths' refusal of deep fillings: all of them (the first kRefuseRounds rounds), those of a
-// check that finds fewer than `below`, or none (below = 0).
+// fillMouths' refusal of deep fillings (refuse_below): all of them (the first kRefuseRounds
+// rounds), those of a check that finds fewer than refuse_below, so none when it is 0.
 constexpr long kRefuseAll = std::numeric_limits<long>::max();
 
 // Dents: a vertex with three faces whose tip lies behind the triangle of its three neighbours
