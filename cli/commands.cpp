@@ -717,9 +717,10 @@ std::string checkSummary(const steady::sweep::MeshCheck& c, bool checked) {
   return s + std::to_string(c.self_intersections) + " SELF-INTERSECTING face pairs";
 }
 
-// The summary's warnings when some vertex of the walls kept at mouths that could not be closed,
-// or of an inner shell, is not certified within the tolerance of the true boundary
-// (Envelope::kept_wall_uncertified, cavity_uncertified), or a mouth filling was taken with a
+// The summary's warnings when some vertex or face centroid of the walls kept at mouths that could
+// not be closed, or of an inner shell, is not certified within the tolerance of the true boundary
+// (Envelope::kept_wall_uncertified, kept_wall_faces_uncertified, cavity_uncertified,
+// cavity_faces_uncertified), or a mouth filling was taken with a
 // probe that is not (Envelope::deep_fillings_taken); empty otherwise.
 std::string uncertifiedWarning(const steady::sweep::Envelope& e) {
   auto bound = [](double b) { return std::isfinite(b) ? num(b) : std::string("over 8 x tolerance"); };
@@ -728,10 +729,19 @@ std::string uncertifiedWarning(const steady::sweep::Envelope& e) {
     out += "; warning: " + count(e.kept_wall_uncertified.size(), "vertex", "vertices") +
            " of walls kept at mouths that could not be closed not certified within the tolerance of the true "
            "boundary (bound " + bound(e.kept_wall_depth_bound) + "; indices in the report's kept_wall_uncertified)";
+  if (!e.kept_wall_faces_uncertified.empty())
+    out += "; warning: " + count(e.kept_wall_faces_uncertified.size(), "face", "faces") +
+           " at walls kept at mouths that could not be closed with a centroid not certified within the tolerance "
+           "of the true boundary (bound " + bound(e.kept_wall_depth_bound) +
+           "; indices in the report's kept_wall_faces_uncertified)";
   if (!e.cavity_uncertified.empty())
     out += "; warning: " + count(e.cavity_uncertified.size(), "vertex", "vertices") +
            " of inner shells (cavities) not certified within the tolerance of the true boundary (bound " +
            bound(e.cavity_depth_bound) + "; indices in the report's cavity_uncertified)";
+  if (!e.cavity_faces_uncertified.empty())
+    out += "; warning: " + count(e.cavity_faces_uncertified.size(), "face", "faces") +
+           " of inner shells (cavities) with a centroid not certified within the tolerance of the true boundary "
+           "(bound " + bound(e.cavity_depth_bound) + "; indices in the report's cavity_faces_uncertified)";
   if (e.deep_fillings_taken > 0)
     out += "; warning: " + count(e.deep_fillings_taken, "mouth filling", "mouth fillings") +
            " taken with a probe not certified within the tolerance of the true boundary (bound " +
@@ -860,9 +870,11 @@ SweepOutput sweepCommand(const SweepRequest& request) {
   report["kept_wall_vertices"] = envelope.kept_wall_vertices;
   report["kept_wall_depth_bound"] = outputNumber(envelope.kept_wall_depth_bound);  // (null: infinite)
   report["kept_wall_uncertified"] = envelope.kept_wall_uncertified;
+  report["kept_wall_faces_uncertified"] = envelope.kept_wall_faces_uncertified;
   report["cavity_vertices"] = envelope.cavity_vertices;
   report["cavity_depth_bound"] = outputNumber(envelope.cavity_depth_bound);  // (null: infinite)
   report["cavity_uncertified"] = envelope.cavity_uncertified;
+  report["cavity_faces_uncertified"] = envelope.cavity_faces_uncertified;
   report["pocket_mouths_filled"] = envelope.pocket_mouths_filled;
   report["deep_fillings_taken"] = envelope.deep_fillings_taken;
   report["filling_depth_bound"] = outputNumber(envelope.filling_depth_bound);  // (null: infinite)

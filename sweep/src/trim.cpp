@@ -2663,7 +2663,13 @@ constexpr int kRefuseRounds = 4;
 // of the loop are dropped (the loop lies on the envelope). Of those points the farthest from
 // the loop on each face, and the kFillingProbes farthest of the rest (where a flat filling
 // strays most from a curved boundary), get a certified depth bound (depth_bound.hpp, with the
-// face's normal); a filling with a bound over kFillingDepth ε fails like a loop with no filling,
+// face's normal), and so does each face's centroid, however near the loop (tenth round: in 6
+// campaign cases, 1559, 2819, 20095, 20374, 21760 and 22842, a filling face whose centroid lay
+// 1.5 to 2.4 ε from its loop, or between the probes of a long face, stood 1.02 to 1.27 ε off
+// the true boundary, and nothing was reported; the elephant screw at 1e-3 (CLI) now probes
+// 27.6k points, 0.26 s on 2 threads, and its output stage takes 2.02 to 2.08 s instead of 1.87
+// to 1.88 s in alternating runs, with the same envelope); a
+// filling with a bound over kFillingDepth ε fails like a loop with no filling,
 // so the walls at its mouth are kept and certified (in the first kRefuseRounds mouth rounds;
 // later it is taken and reported, see there). Not a certificate of the whole filling: its
 // other points are not probed. Campaign cases 19,800 to 23,399: 22969 passes; 21414 keeps
@@ -3915,6 +3921,10 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
         pts.clear();
         fillingProbes(V, loops[l], V[t[0]], V[t[1]], V[t[2]], kFillingNear * eps_t, h, pts);
         const Vec n = (V[t[1]] - V[t[0]]).cross(V[t[2]] - V[t[0]]).normalized();
+        // (the centroid, unless it is the face's one cover point)
+        const Vec m = (V[t[0]] + V[t[1]] + V[t[2]]) / 3.0;
+        if (pts.size() != 1 || (pts[0] - m).norm() > 1e-9 * h)
+          probes.push_back({static_cast<int>(l), distanceToLoop(V, loops[l], m), m, n});
         const std::size_t begin = cover.size();
         for (const Vec& x : pts) cover.push_back({static_cast<int>(l), distanceToLoop(V, loops[l], x), x, n});
         if (cover.size() == begin) continue;
@@ -4047,12 +4057,42 @@ DepthBound surfaceDepths(const std::vector<Vec>& V, const std::vector<Tri>& T, c
   return out;
 }
 
+// The certified depth bounds of the centroids of the faces of (V, T) that have a vertex among
+// `which` (increasing), probed across each face both ways (DepthTest::boundAt): a face can
+// stand off the true boundary with its vertices on it (campaign case 20374, a polySAM of CGAL's
+// sphere: two kept crack faces whose vertices were all certified within ε had their centroids
+// 1.01 and 1.04 ε deep in a posed body). Returns the largest bound, and the faces whose bound
+// exceeds ε.
+DepthBound centroidDepths(const std::vector<Vec>& V, const std::vector<Tri>& T, const std::vector<int>& which,
+                          const DepthTest& depth, int threads) {
+  DepthBound out;
+  if (which.empty() || !depth.inside) return out;
+  std::vector<char> in(V.size(), 0);
+  for (const int v : which) in[static_cast<std::size_t>(v)] = 1;
+  std::vector<int> faces;
+  for (std::size_t f = 0; f < T.size(); ++f)
+    if (in[T[f][0]] || in[T[f][1]] || in[T[f][2]]) faces.push_back(static_cast<int>(f));
+  std::vector<double> bound(faces.size());
+  parallelFor(0, faces.size(), threads, [&](std::size_t i) {
+    const Tri& t = T[static_cast<std::size_t>(faces[i])];
+    const Vec n = (V[t[1]] - V[t[0]]).cross(V[t[2]] - V[t[0]]).normalized();
+    bound[i] = depth.boundAt((V[t[0]] + V[t[1]] + V[t[2]]) / 3.0, n);
+  });
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    out.worst = std::max(out.worst, bound[i]);
+    if (bound[i] > depth.eps) out.beyond.push_back(faces[i]);
+  }
+  return out;
+}
+
 Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const SweepOptions& options,
                     const std::function<bool(const Vec&)>& inside_swept, double inside_tolerance,
                     std::chrono::steady_clock::time_point t_start, double t_cycle) {
   Envelope env;
   env.tolerance = eps;
   env.spans = spans;
+  // (the certified depth bounds of fillings, dent triangles, kept walls and cavities)
+  const DepthTest certify{inside_swept, eps, inside_tolerance};
   env.cycle_triangles = cycle.triangles.size();
   env.timings.cycle = t_cycle;
 
@@ -4169,7 +4209,7 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
     std::vector<Tri> rim;
     long found_deep = -1;
     mouths = fillMouths(env.vertices, env.triangles, kTessellationShare * eps, trouble, round < kRimRounds ? &rim : nullptr,
-                        flaps, {inside_swept, eps, inside_tolerance}, round < kRefuseRounds ? kRefuseAll : last_deep,
+                        flaps, certify, round < kRefuseRounds ? kRefuseAll : last_deep,
                         found_deep, filling_depths, options.threads);
     if (found_deep >= 0) last_deep = found_deep;
     if (mouths >= 0) break;
@@ -4281,7 +4321,7 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
   // Tips of three faces that poke into the swept volume give way to the triangle of their
   // neighbours (see fillBuriedDents).
   env.buried_dents_filled =
-      fillBuriedDents(env.vertices, env.triangles, kTessellationShare * eps, {inside_swept, eps, inside_tolerance},
+      fillBuriedDents(env.vertices, env.triangles, kTessellationShare * eps, certify,
                       options.threads);
   // Rounding: exact points that differ by a few units in the last place (e.g. input noise of
   // 1e-17 carried through exact constructions) round to points that make slivers cross. Merge
@@ -4310,13 +4350,15 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
     env.pinched_vertices_split = copies;
     env.pinches_touching = separatePinches(env.vertices, env.triangles, eps, options.threads);
   }
-  {  // how deep the output vertices of the kept walls lie (see surfaceDepths)
+  {  // how deep the output vertices of the kept walls, and their faces' centroids, lie
     const std::vector<int> on_kept = verticesNear(env.vertices, kept_points, kKeptMatch * eps);
     const DepthBound depth =
         surfaceDepths(env.vertices, env.triangles, on_kept, eps, inside_tolerance, inside_swept, options.threads);
+    const DepthBound faces = centroidDepths(env.vertices, env.triangles, on_kept, certify, options.threads);
     env.kept_wall_vertices = on_kept.size();
-    env.kept_wall_depth_bound = depth.worst;
+    env.kept_wall_depth_bound = std::max(depth.worst, faces.worst);
     env.kept_wall_uncertified = depth.beyond;
+    env.kept_wall_faces_uncertified = faces.beyond;
   }
   {  // how deep the vertices of inner shells lie (see Envelope::cavity_vertices)
     const auto sides = edgeSides(env.triangles, env.vertices.size(), options.threads);
@@ -4344,9 +4386,11 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
         if (inner[v]) which.push_back(static_cast<int>(v));
       const DepthBound depth =
           surfaceDepths(env.vertices, env.triangles, which, eps, inside_tolerance, inside_swept, options.threads);
+      const DepthBound faces = centroidDepths(env.vertices, env.triangles, which, certify, options.threads);
       env.cavity_vertices = which.size();
-      env.cavity_depth_bound = depth.worst;
+      env.cavity_depth_bound = std::max(depth.worst, faces.worst);
       env.cavity_uncertified = depth.beyond;
+      env.cavity_faces_uncertified = faces.beyond;
     }
   }
   env.timings.output = seconds(t0);

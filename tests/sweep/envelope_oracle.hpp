@@ -75,7 +75,7 @@ inline MinBracket boundaryBracket(const MovingBody& mb, const V& x, double T) {
 // of checkEnvelope compares the inside test itself with the oracle. `faces` caps the number of
 // faces (a seeded sample; every face when it is at least their number). `worst` is the largest
 // broken distance in ε: of a centroid off the boundary, or of a posed body point outside the
-// envelope.
+// envelope; `off_faces` lists the faces whose centroid is off the boundary.
 constexpr double kSideOffset = 4.0;
 // Whether some face of the mesh lies within r of p (a box test first, then the distance).
 inline bool withinDistance(const std::vector<V>& v, const Faces& f, const V& p, double r) {
@@ -89,6 +89,7 @@ inline bool withinDistance(const std::vector<V>& v, const Faces& f, const V& p, 
 struct SideCheck {
   int checked = 0, suspects = 0, failed = 0, undecided = 0;
   double worst = 0;
+  std::vector<int> off_faces;  // the faces whose centroid the oracle finds off the true boundary
 };
 inline SideCheck checkFaceSides(const steady::sweep::Envelope& env, const MovingBody& mb,
                                 const steady::sweep::SweptVolume& sv, std::size_t faces, std::mt19937_64& rng) {
@@ -131,6 +132,7 @@ inline SideCheck checkFaceSides(const steady::sweep::Envelope& env, const Moving
     if (b.lo > T || b.hi < -T) {
       const double off = b.lo > T ? b.lo : -b.hi;
       c.worst = std::max(c.worst, off / eps);
+      c.off_faces.push_back(static_cast<int>(f));
       if (++c.failed <= kMaxMessages)
         ADD_FAILURE() << "the centroid of envelope face " << f << ", at " << centroid.transpose() << ", is "
                       << (b.lo > T ? "farther than " : "deeper than ") << off / eps << " eps "
@@ -348,6 +350,66 @@ struct AcrossCheck {
   int checked = 0, inside = 0, undecided = 0;
   std::vector<int> deep;
 };
+// One point x of checkAcross, with the envelope's outward normal there (zero if none) and, per
+// face at x, the direction from x to its centroid, its unit normal and its two edges from x:
+// 2 when x itself is not certified inside S, 1 when a probe is certified outside S, 0 when
+// none is and some probe is undecided, -1 when every probe is certified inside.
+inline int acrossPoint(const MovingBody& mb, const V& x, const V& normal, const std::vector<std::array<V, 4>>& faces,
+                       double T) {
+  static const std::vector<V> dirs = [] {
+    std::vector<V> d;
+    for (int n = 1; n <= 3; ++n)
+      for (int i = -1; i <= 1; ++i)
+        for (int j = -1; j <= 1; ++j)
+          for (int k = -1; k <= 1; ++k)
+            if (std::abs(i) + std::abs(j) + std::abs(k) == n) d.push_back(V(i, j, k).normalized());
+    return d;
+  }();
+  static const std::vector<V> random_dirs = [] {
+    std::vector<V> d;
+    std::mt19937_64 rng(0x5eed);
+    std::normal_distribution<double> g;
+    while (d.size() < 256) {
+      const V u(g(rng), g(rng), g(rng));
+      if (u.norm() > 1e-3) d.push_back(u.normalized());
+    }
+    return d;
+  }();
+  // -1 certified inside S, 1 certified outside, 0 undecided.
+  auto side = [&](const V& q) {
+    const MinBracket b = minSignedDistance(mb, q, [](double blo, double bhi) { return blo > 0 || bhi < 0; }, 6000);
+    return b.lo > 0 ? 1 : b.hi < 0 ? -1 : 0;
+  };
+  if (side(x) >= 0) return 2;
+  std::vector<V> probes;
+  const double r = T * (1 - 1e-3);
+  if (normal.norm() > 0) probes.push_back(x + r * normal.normalized());
+  for (const V& d : dirs) probes.push_back(x + r * d);
+  for (const auto& f : faces)
+    for (int a = 1; a <= 3; ++a)
+      for (int j = 3; j <= 12; ++j)
+        for (const double sign : {1.0, -1.0})
+          probes.push_back(x + std::ldexp(T, -a) * f[0] + sign * std::ldexp(T, -j) * f[1]);
+  for (const V& d : random_dirs) probes.push_back(x + r * d), probes.push_back(x + 0.5 * T * d);
+  for (const auto& f : faces)
+    for (int k = 0; k < 8; ++k) {
+      const V t = k == 0 ? f[0] : V(((8 - k) * f[2] + k * f[3]).normalized());
+      for (int a = 0; a <= 3; ++a)
+        for (int j = 2; j <= 24; ++j) {
+          const double b = T * std::exp2(-0.5 * j);
+          const double along = a == 0 ? r - b : std::ldexp(T, -a);
+          for (const double sign : {1.0, -1.0}) probes.push_back(x + along * t + sign * b * f[1]);
+        }
+    }
+  bool unsure = false;
+  for (const V& q : probes) {
+    const int s = side(q);
+    if (s > 0) return 1;
+    unsure = unsure || s == 0;
+  }
+  return unsure ? 0 : -1;
+}
+
 inline AcrossCheck checkAcross(const steady::sweep::Envelope& env, const MovingBody& mb, const std::vector<int>& which) {
   const double T = env.tolerance * 1.01;
   std::vector<V> normal(env.vertices.size(), V::Zero());
@@ -367,64 +429,38 @@ inline AcrossCheck checkAcross(const steady::sweep::Envelope& env, const MovingB
         faces[v].push_back({{into.normalized(), n.normalized(), ea.normalized(), eb.normalized()}});
     }
   }
-  std::vector<V> dirs;
-  for (int n = 1; n <= 3; ++n)
-    for (int i = -1; i <= 1; ++i)
-      for (int j = -1; j <= 1; ++j)
-        for (int k = -1; k <= 1; ++k)
-          if (std::abs(i) + std::abs(j) + std::abs(k) == n) dirs.push_back(V(i, j, k).normalized());
-  std::vector<V> random_dirs;
-  std::mt19937_64 rng(0x5eed);
-  std::normal_distribution<double> g;
-  while (random_dirs.size() < 256) {
-    const V d(g(rng), g(rng), g(rng));
-    if (d.norm() > 1e-3) random_dirs.push_back(d.normalized());
-  }
-  // -1 certified inside S, 1 certified outside, 0 undecided.
-  auto side = [&](const V& x) {
-    const MinBracket b = minSignedDistance(mb, x, [](double blo, double bhi) { return blo > 0 || bhi < 0; }, 6000);
-    return b.lo > 0 ? 1 : b.hi < 0 ? -1 : 0;
-  };
   AcrossCheck c;
   for (const int i : which) {
-    const V& x = env.vertices[static_cast<std::size_t>(i)];
     ++c.checked;
-    if (side(x) >= 0) continue;
+    const int s = acrossPoint(mb, env.vertices[static_cast<std::size_t>(i)], normal[i], faces[i], T);
+    if (s == 2) continue;
     ++c.inside;
-    std::vector<V> probes;
-    const double r = T * (1 - 1e-3);
-    if (normal[i].norm() > 0) probes.push_back(x + r * normal[i].normalized());
-    for (const V& d : dirs) probes.push_back(x + r * d);
-    for (const auto& f : faces[i])
-      for (int a = 1; a <= 3; ++a)
-        for (int j = 3; j <= 12; ++j)
-          for (const double sign : {1.0, -1.0})
-            probes.push_back(x + std::ldexp(T, -a) * f[0] + sign * std::ldexp(T, -j) * f[1]);
-    for (const V& d : random_dirs) probes.push_back(x + r * d), probes.push_back(x + 0.5 * T * d);
-    for (const auto& f : faces[i])
-      for (int k = 0; k < 8; ++k) {
-        const V t = k == 0 ? f[0] : V(((8 - k) * f[2] + k * f[3]).normalized());
-        for (int a = 0; a <= 3; ++a)
-          for (int j = 2; j <= 24; ++j) {
-            const double b = T * std::exp2(-0.5 * j);
-            const double along = a == 0 ? r - b : std::ldexp(T, -a);
-            for (const double sign : {1.0, -1.0}) probes.push_back(x + along * t + sign * b * f[1]);
-          }
-      }
-    bool across = false, unsure = false;
-    for (const V& q : probes) {
-      const int s = side(q);
-      if (s > 0) {
-        across = true;
-        break;
-      }
-      unsure = unsure || s == 0;
-    }
-    if (across) continue;
-    if (unsure)
+    if (s == 1) continue;
+    if (s == 0)
       ++c.undecided;
     else
       c.deep.push_back(i);
+  }
+  return c;
+}
+
+// checkAcross for the centroids of the faces `which` (indices into env.triangles), probed along
+// the face's outward normal, the cube's and the random directions (`deep` lists faces).
+inline AcrossCheck checkCentroidsAcross(const steady::sweep::Envelope& env, const MovingBody& mb,
+                                        const std::vector<int>& which) {
+  AcrossCheck c;
+  for (const int f : which) {
+    const auto& t = env.triangles[static_cast<std::size_t>(f)];
+    const V &a = env.vertices[t[0]], &b = env.vertices[t[1]], &d = env.vertices[t[2]];
+    ++c.checked;
+    const int s = acrossPoint(mb, (a + b + d) / 3.0, (b - a).cross(d - a), {}, env.tolerance * 1.01);
+    if (s == 2) continue;
+    ++c.inside;
+    if (s == 1) continue;
+    if (s == 0)
+      ++c.undecided;
+    else
+      c.deep.push_back(f);
   }
   return c;
 }

@@ -359,7 +359,9 @@ std::string runCase(const Case& c, long index, const Options& opt) {
       head += format(" | sweep %.3fs | %s", t_sweep, detail.c_str());
     } else {
       uncertified_listed =
-          !env.kept_wall_uncertified.empty() || !env.cavity_uncertified.empty() || env.deep_fillings_taken > 0;
+          !env.kept_wall_uncertified.empty() || !env.cavity_uncertified.empty() ||
+          !env.kept_wall_faces_uncertified.empty() || !env.cavity_faces_uncertified.empty() ||
+          env.deep_fillings_taken > 0;
       const double t1 = seconds();
       // The library's own check of its output, beside checkEnvelope's inspectMesh.
       EXPECT_TRUE(env.check.closed) << "env.check.closed";
@@ -402,6 +404,9 @@ std::string runCase(const Case& c, long index, const Options& opt) {
         notes += format(" | uncertified %zu: %zu deep", env.kept_wall_uncertified.size(), listed) +
                  (opt.all_vertices ? std::string() : format(", %d undecided", across.undecided));
       }
+      if (!env.kept_wall_faces_uncertified.empty() || !env.cavity_faces_uncertified.empty())
+        notes += format(" | faces uncertified %zu kept-wall, %zu cavity", env.kept_wall_faces_uncertified.size(),
+                        env.cavity_faces_uncertified.size());
       if (env.deep_fillings_taken > 0)
         notes += format(" | deep fillings taken %zu, bound %.3g eps", env.deep_fillings_taken,
                         env.filling_depth_bound / env.tolerance);

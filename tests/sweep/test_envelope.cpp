@@ -813,6 +813,10 @@ TEST(Envelope, MouthWhoseFillingsAllCrossItsRimCloses) {
 // Checked against the certified oracle as well, in a box of 50 eps about the vertex that the
 // fewest directions clear (none of 20,000 at 0.98 eps): every vertex inside the swept volume
 // has a point outside within T = 1.01 eps (checkAcross, whose probes include the same kind).
+// The faces at the kept walls are checked too (tenth round): one of them, with an edge 23 eps
+// long, has its centroid deeper than T in the swept volume by the oracle, and the envelope
+// must list it (Envelope::kept_wall_faces_uncertified); every listed face the oracle confirms
+// deep is counted, and the bound then exceeds eps.
 TEST(Envelope, KeptWallsBesideThinOutsideLayersAreCertified) {
   const Mesh m = torus(0.7, 0.25, 12, 6);
   Eigen::Matrix<double, 3, 4> p0, p1, p2;
@@ -832,10 +836,13 @@ TEST(Envelope, KeptWallsBesideThinOutsideLayersAreCertified) {
   EXPECT_GT(env.kept_wall_vertices, 0u) << "no wall is kept here any more: pick another case";
   EXPECT_TRUE(env.kept_wall_uncertified.empty())
       << env.kept_wall_uncertified.size() << " kept-wall vertices not certified within eps";
-  EXPECT_LE(env.kept_wall_depth_bound, env.tolerance);
+  const MovingBody mb(m, motion);
+  const AcrossCheck listed = checkCentroidsAcross(env, mb, env.kept_wall_faces_uncertified);
+  EXPECT_GE(listed.deep.size(), 1u) << "no deep face listed (" << env.kept_wall_faces_uncertified.size()
+                                    << " listed): the long kept face is gone, update this comment";
+  EXPECT_GT(env.kept_wall_depth_bound, env.tolerance);
   const V center(2.392175798741099, -0.09082776517538249, -0.24973823446566681);
   const V reach = V::Constant(50 * env.tolerance);
-  const MovingBody mb(m, motion);
   const AcrossCheck a = checkAcrossInBox(env, mb, center - reach, center + reach);
   EXPECT_GE(a.checked, 20) << "the box no longer holds the vertices about the kept walls";
   EXPECT_GE(a.inside, 10);
@@ -843,8 +850,9 @@ TEST(Envelope, KeptWallsBesideThinOutsideLayersAreCertified) {
     ADD_FAILURE() << "vertex " << v << " at " << env.vertices[v].transpose()
                   << " has no outside point within T";
   std::printf("[ info     ] torus polySAM kept walls: %zu vertices, bound %.3g eps; in the box %d vertices checked, %d "
-              "inside the swept volume, %zu without an outside point within T\n",
-              env.kept_wall_vertices, env.kept_wall_depth_bound / env.tolerance, a.checked, a.inside, a.deep.size());
+              "inside the swept volume, %zu without an outside point within T; %zu faces listed, %zu of them deep\n",
+              env.kept_wall_vertices, env.kept_wall_depth_bound / env.tolerance, a.checked, a.inside, a.deep.size(),
+              env.kept_wall_faces_uncertified.size(), listed.deep.size());
 }
 
 // The stress campaign's torus on a polySAM of four poses (case 12979, tolerance 2e-3): walls
@@ -1108,8 +1116,15 @@ SideCheck sweepAndCheckFaceSides(const Mesh& m, const Motion3& motion, double re
                                                          &failures);
     sides = checkFaceSides(env, MovingBody(m, motion), SweptVolume(makeBody(m), motion), env.triangles.size(), rng);
   }
-  if (sides.failed > 0) {
-    EXPECT_GT(env.deep_fillings_taken, 0u) << sides.failed << " faces off the true boundary, none reported; the first: "
+  // (a face off the true boundary must be reported: at a deep filling taken, within its bound, or
+  // listed as a face whose centroid is not certified)
+  std::vector<int> unlisted;
+  for (const int f : sides.off_faces)
+    if (!std::binary_search(env.kept_wall_faces_uncertified.begin(), env.kept_wall_faces_uncertified.end(), f) &&
+        !std::binary_search(env.cavity_faces_uncertified.begin(), env.cavity_faces_uncertified.end(), f))
+      unlisted.push_back(f);
+  if (sides.failed > 0 && !(unlisted.empty() && sides.failed == static_cast<int>(sides.off_faces.size()))) {
+    EXPECT_GT(env.deep_fillings_taken, 0u) << sides.failed << " faces off the true boundary, not reported; the first: "
                                            << failures.GetTestPartResult(0).message();
     EXPECT_GE(env.filling_depth_bound, sides.worst * env.tolerance) << "the faces lie farther off than reported";
   }
@@ -1206,6 +1221,69 @@ TEST(Envelope, DeepFillingsAreRefusedWhileTheirCountFalls) {
               "fail; kept %zu crack faces, %zu buried patches\n",
               sides.checked, sides.suspects, sides.failed, env.crack_faces_kept, env.buried_patches_kept);
 }
+
+// The stress campaign's bracket on a general affine span (case 22842, tolerance 1e-3): a mouth
+// filling's face whose centroid lay 2.3 eps from its loop, where the filling probes did not
+// look (they cover points at least 4 eps from it), stood 1.15 eps off the true boundary, and
+// nothing was reported. Each filling face's centroid is now probed as well (Deep fillings in
+// trim.cpp): that filling is refused, its mouth's walls kept and certified, and every face lies
+// on the true boundary.
+TEST(Envelope, FillingFacesAreProbedAtTheirCentroids) {
+  const Mesh m = bundledBracket();
+  const Motion3 motion = polySamOf({
+      {0.9997267766628664, -0.006584652715293181, -0.022427981895263897, 0.45808176852154425, 0.006001602062594469,
+       0.9996448260676676, -0.025965409467692338, -0.4902029829005119, 0.022590989264695, 0.025823711289465097,
+       0.9994112182376587, -0.324088675548156},
+      {0.5739084067284858, -0.5699179438174178, -0.44099220271106093, -0.6008623682744328, -0.39910525473249964,
+       2.349412244666763, 1.015078032735736, -0.24539465233326574, -0.06846498942268153, 0.5387963372645501,
+       0.9687552501294481, 0.3846777589947381},
+  });
+  Envelope env;
+  const SideCheck sides = sweepAndCheckFaceSides(m, motion, 1e-3, 22842, env);
+  EXPECT_EQ(sides.failed, 0) << "worst " << sides.worst << " eps";
+  EXPECT_EQ(env.deep_fillings_taken, 0u) << "bound " << env.filling_depth_bound / env.tolerance << " eps";
+  EXPECT_TRUE(env.kept_wall_uncertified.empty());
+  EXPECT_TRUE(env.kept_wall_faces_uncertified.empty());
+  std::printf("[ info     ] bracket affine span, filling centroids probed: %d face side points, %d suspects, %d faces "
+              "fail; kept %zu crack faces, %zu buried patches\n",
+              sides.checked, sides.suspects, sides.failed, env.crack_faces_kept, env.buried_patches_kept);
+}
+
+#ifdef STEADY_CGAL_MESHES
+// The stress campaign's CGAL sphere on a polySAM of four poses (case 20374, tolerance 1e-3):
+// walls are kept at mouths whose fillings were refused, and every vertex on them is certified
+// within eps, but two kept crack faces have their centroids 1.01 and 1.04 eps deep in a posed
+// body; nothing was reported. The centroids of the faces at kept walls are now certified too
+// (Envelope::kept_wall_faces_uncertified): every face that the oracle finds off the true
+// boundary must be listed (sweepAndCheckFaceSides), and some must be found (else the case no
+// longer shows the error: pick another).
+TEST(Envelope, KeptWallFacesOffTheTrueBoundaryAreListed) {
+  const Mesh m = cgalSampleMesh("sphere.off");
+  const Motion3 motion = polySamOf({
+      {0.29748579078567805, 0.7857644408181461, 0.5422881594008541, -0.4853302752817743, 0.0911848264406821,
+       0.5420229899786272, -0.8354019426369632, 0.4719183865078116, -0.9503617899029836, 0.29796865922505233,
+       0.08959434363854729, -0.14753702782122335},
+      {-0.14153385624228623, 0.7317207729863153, 0.12008623879782135, -0.6497569181381684, -0.17601724296150317,
+       0.3315079024753458, -0.6581011457251389, -0.7354387778106002, -0.7412561853635032, 0.6291172971020016,
+       0.33118504661884157, -1.2478274326071923},
+      {0.6273190933885437, -0.4109671116403063, 0.10700910993311458, 1.8835915288887324, 0.3572700556824539,
+       -0.9225989894409128, -0.016214062757995945, -0.015744140247823335, 0.2816087658526723, -0.14497755125830025,
+       -0.7385712642781836, 0.0024818708220681884},
+      {0.6273190933885437, -0.4109671116403063, 0.10700910993311458, 4.085352600624303, 0.3572700556824539,
+       -0.9225989894409128, -0.016214062757995945, -1.0965263443343358, 0.2816087658526723, -0.14497755125830025,
+       -0.7385712642781836, -0.09195245060572935},
+  });
+  Envelope env;
+  const SideCheck sides = sweepAndCheckFaceSides(m, motion, 1e-3, 20374, env);
+  EXPECT_GE(sides.off_faces.size(), 1u) << "no face off the true boundary here any more: pick another case";
+  EXPECT_GT(env.kept_wall_depth_bound, env.tolerance);
+  EXPECT_TRUE(env.kept_wall_uncertified.empty());
+  std::printf("[ info     ] CGAL sphere polySAM kept-wall faces: %zu faces off the true boundary (worst %.3f eps), %zu "
+              "listed, bound %.3g eps\n",
+              sides.off_faces.size(), sides.worst, env.kept_wall_faces_uncertified.size(),
+              env.kept_wall_depth_bound / env.tolerance);
+}
+#endif
 
 // The stress campaign's star prism translated along two spans (case 764, tolerance 1e-3): the
 // swept volume is a polyhedron and the envelope has 206 faces, 6 of them dent triangles

@@ -33,8 +33,8 @@
 /// crack_faces_kept; they may lie deeper than ε inside) and, rarely, at the apex of a thin fold
 /// that none of these tests finds. The vertices on kept walls are checked on every run: each
 /// gets a certified bound on its distance to the true boundary, and those not certified within
-/// ε are listed (Envelope::kept_wall_uncertified), so a kept wall deeper than ε is never
-/// silent. In a campaign of 3,600 random cases, 4 list such vertices (README, "What does not
+/// ε are listed (Envelope::kept_wall_uncertified), as are the faces there whose centroid is
+/// not (kept_wall_faces_uncertified), so a kept wall deeper than ε is never silent. In a campaign of 3,600 random cases, 4 list such vertices (README, "What does not
 /// hold yet").
 
 #include <steady/core/motion.hpp>
@@ -175,7 +175,8 @@ struct Envelope {
   /// directions in the plane of each normal, down to ε/16), then along the 26 directions to the
   /// faces, edges and corners of a cube, at 1, 1.25, 1.5, 2, 4 and 8 ε. The bound is one of those
   /// multiples of ε; infinity when some vertex has no such point within 8 ε; 0 when no output
-  /// vertex is on a kept wall.
+  /// vertex is on a kept wall. The bound covers the centroids of the faces at those vertices
+  /// too (see kept_wall_faces_uncertified).
   std::size_t kept_wall_vertices = 0;
   double kept_wall_depth_bound = 0;
   /// The vertices on kept walls whose bound exceeds ε (indices into `vertices`, increasing):
@@ -185,6 +186,10 @@ struct Envelope {
   /// a vertex at depth d is certified by 1.13 d, but a crack of outside space thinner than 1% of
   /// ε, ending at the vertex, may escape every probe).
   std::vector<int> kept_wall_uncertified;
+  /// The faces with a vertex on a kept wall whose centroid is not certified within ε (indices
+  /// into `triangles`, increasing): a face can stand off the true boundary with its vertices on
+  /// it. Each centroid is probed across its face, both ways, at the claims above.
+  std::vector<int> kept_wall_faces_uncertified;
   /// The vertices of the envelope's inner shells: every shell but the one of largest volume (the
   /// swept volume of a connected body is connected, so other shells bound cavities). They are
   /// certified like the vertices of kept walls (see kept_wall_depth_bound): the largest bound
@@ -194,10 +199,13 @@ struct Envelope {
   std::size_t cavity_vertices = 0;
   double cavity_depth_bound = 0;
   std::vector<int> cavity_uncertified;
+  /// The faces of inner shells whose centroid is not certified within ε (as
+  /// kept_wall_faces_uncertified; their bounds count in cavity_depth_bound).
+  std::vector<int> cavity_faces_uncertified;
   /// Mouths of such pockets and cracks (loops of edges left with one face) closed by hole filling.
-  /// Before a filling is taken, some of its points (of points spread over it, at least 2 ε from
-  /// the loop: the farthest from the loop on each of its faces, and the 16 farthest of the
-  /// rest) get the certified bound above; a filling with a bound over ε is refused, and the
+  /// Before a filling is taken, some of its points (each face's centroid, and of points spread
+  /// over it at least 2 ε from the loop, the farthest from the loop on each of its faces and the
+  /// 16 farthest of the rest) get the certified bound above; a filling with a bound over ε is refused, and the
   /// walls at its mouth are kept. Its other points are not probed, so this is a check, not a
   /// certificate of the whole filling.
   std::size_t pocket_mouths_filled = 0;
