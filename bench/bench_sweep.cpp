@@ -258,11 +258,13 @@ bool steadySweep(benchmark::State& state, const SweepBody& b, const Motion& moti
   state.counters["mouths"] = static_cast<double>(env.pocket_mouths_filled);
   state.counters["buried_kept"] = static_cast<double>(env.buried_patches_kept);
   state.counters["cracks_kept"] = static_cast<double>(env.crack_faces_kept);
-  // The kept walls' vertices and the certified bound on their depth, in units of ε (-1: beyond 8 ε).
+  // The kept walls' vertices and the certified bound on their depth (and their faces' centroids),
+  // in units of ε (-1: beyond 8 ε); the vertices and faces not certified within ε.
   state.counters["kept_vertices"] = static_cast<double>(env.kept_wall_vertices);
   state.counters["kept_depth_eps"] =
       std::isfinite(env.kept_wall_depth_bound) ? env.kept_wall_depth_bound / env.tolerance : -1.0;
   state.counters["kept_uncertified"] = static_cast<double>(env.kept_wall_uncertified.size());
+  state.counters["kept_faces_uncertified"] = static_cast<double>(env.kept_wall_faces_uncertified.size());
   state.counters["deep_fills"] = static_cast<double>(env.deep_fillings_taken);
   state.counters["rim_out"] = static_cast<double>(env.mouth_rim_faces_removed);
   state.counters["dents"] = static_cast<double>(env.buried_dents_filled);
