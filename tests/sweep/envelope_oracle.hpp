@@ -349,6 +349,14 @@ inline NearCheck checkVerticesInBox(const steady::sweep::Envelope& env, const Mo
 struct AcrossCheck {
   int checked = 0, inside = 0, undecided = 0;
   std::vector<int> deep;
+  // Counts the verdict of acrossPoint for the point (vertex or face) `index`.
+  void count(int verdict, int index) {
+    ++checked;
+    if (verdict == 2) return;
+    ++inside;
+    if (verdict == 0) ++undecided;
+    if (verdict < 0) deep.push_back(index);
+  }
 };
 // One point x of checkAcross, with the envelope's outward normal there (zero if none) and, per
 // face at x, the direction from x to its centroid, its unit normal and its two edges from x:
@@ -430,17 +438,8 @@ inline AcrossCheck checkAcross(const steady::sweep::Envelope& env, const MovingB
     }
   }
   AcrossCheck c;
-  for (const int i : which) {
-    ++c.checked;
-    const int s = acrossPoint(mb, env.vertices[static_cast<std::size_t>(i)], normal[i], faces[i], T);
-    if (s == 2) continue;
-    ++c.inside;
-    if (s == 1) continue;
-    if (s == 0)
-      ++c.undecided;
-    else
-      c.deep.push_back(i);
-  }
+  for (const int i : which)
+    c.count(acrossPoint(mb, env.vertices[static_cast<std::size_t>(i)], normal[i], faces[i], T), i);
   return c;
 }
 
@@ -452,15 +451,7 @@ inline AcrossCheck checkCentroidsAcross(const steady::sweep::Envelope& env, cons
   for (const int f : which) {
     const auto& t = env.triangles[static_cast<std::size_t>(f)];
     const V &a = env.vertices[t[0]], &b = env.vertices[t[1]], &d = env.vertices[t[2]];
-    ++c.checked;
-    const int s = acrossPoint(mb, (a + b + d) / 3.0, (b - a).cross(d - a), {}, env.tolerance * 1.01);
-    if (s == 2) continue;
-    ++c.inside;
-    if (s == 1) continue;
-    if (s == 0)
-      ++c.undecided;
-    else
-      c.deep.push_back(f);
+    c.count(acrossPoint(mb, (a + b + d) / 3.0, (b - a).cross(d - a), {}, env.tolerance * 1.01), f);
   }
   return c;
 }
