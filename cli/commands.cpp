@@ -877,6 +877,7 @@ SweepOutput sweepCommand(const SweepRequest& request) {
   report["cavity_faces_uncertified"] = envelope.cavity_faces_uncertified;
   report["pocket_mouths_filled"] = envelope.pocket_mouths_filled;
   report["deep_fillings_taken"] = envelope.deep_fillings_taken;
+  report["fillings_refined"] = envelope.fillings_refined;
   report["filling_depth_bound"] = outputNumber(envelope.filling_depth_bound);  // (null: infinite)
   report["mouth_flaps_removed"] = envelope.mouth_flaps_removed;
   report["mouth_rim_faces_removed"] = envelope.mouth_rim_faces_removed;

@@ -1285,6 +1285,37 @@ TEST(Envelope, KeptWallFacesOffTheTrueBoundaryAreListed) {
 }
 #endif
 
+// The stress campaign's bracket on a screw (case 18970, tolerance 1e-3): the flat fillings of two
+// wide mouths (loops of 6 and 10 points) bulged out of the swept volume, up to 2.7 and 1.9 eps
+// off the curved true boundary; they were refused, the walls kept at them held two vertices
+// deeper than eps (the tenth round's code listed them as uncertified), and the case failed.
+// Deep fillings are now refined onto the true boundary (Refined fillings in trim.cpp): both
+// mouths close within eps at every probe, no wall vertex or face is left uncertified, and the
+// oracle finds every face on the true boundary.
+TEST(Envelope, DeepFillingsOfWideMouthsAreRefinedOntoTheBoundary) {
+  const Mesh m = bundledBracket();
+  const Motion3 motion = polySamOf({
+      {0.64436018943477713, 0.76472188737710456, -0.00061744471598892958, -0.25150233905635844,
+       -0.72799655697015841, 0.61316755182243876, -0.30667012640893454, 0.027626460546923859,
+       -0.23413876080472698, 0.19805551837420746, 0.95181566089781833, -0.35443352634414271},
+      {-0.28298196411280752, -0.069709343902654541, 0.95658863434577723, 0.4926627092861347,
+       -0.54367438874435581, -0.80998800369788426, -0.21985811990683382, 0.80240683350395181,
+       0.79015148358419807, -0.58228862365512324, 0.1913128112581936, -1.7590743348221676},
+  });
+  Envelope env;
+  const SideCheck sides = sweepAndCheckFaceSides(m, motion, 1e-3, 18970, env);
+  EXPECT_GT(env.fillings_refined, 0u) << "no filling refined here any more: pick another case";
+  EXPECT_EQ(sides.failed, 0) << "worst " << sides.worst << " eps";
+  EXPECT_EQ(env.deep_fillings_taken, 0u) << "bound " << env.filling_depth_bound / env.tolerance << " eps";
+  EXPECT_LE(env.filling_depth_bound, env.tolerance);
+  EXPECT_TRUE(env.kept_wall_uncertified.empty());
+  EXPECT_TRUE(env.kept_wall_faces_uncertified.empty());
+  std::printf("[ info     ] bracket screw, wide mouths: %zu fillings refined (bound %.3g eps); %d face side points, "
+              "%d faces fail; kept %zu crack faces, %zu buried patches\n",
+              env.fillings_refined, env.filling_depth_bound / env.tolerance, sides.checked, sides.failed,
+              env.crack_faces_kept, env.buried_patches_kept);
+}
+
 // The stress campaign's star prism translated along two spans (case 764, tolerance 1e-3): the
 // swept volume is a polyhedron and the envelope has 206 faces, 6 of them dent triangles
 // (fillBuriedDents) about 1 across, whose centroids stood 1.1 to 2.5 eps off the true boundary

@@ -216,6 +216,11 @@ struct Envelope {
   /// refusals are then converging). Not 0 means that some filling may lie farther than ε from the true
   /// boundary: see filling_depth_bound.
   std::size_t deep_fillings_taken = 0;
+  /// Of the mouth fillings taken, how many were refined: a flat filling found farther than ε
+  /// from the true boundary had its inner edges cut (to about ε) and each new point moved along
+  /// the filling's normal onto the true boundary (by bisection with the exact inside test, to
+  /// within ε/128), then was checked and probed again like any filling.
+  std::size_t fillings_refined = 0;
   /// The largest certified bound (world units, as kept_wall_depth_bound) over the probed points
   /// of the fillings taken; infinity when some probe has no point across the boundary within 8
   /// ε; 0 when no filling was probed.
