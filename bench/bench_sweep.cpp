@@ -24,6 +24,19 @@
 //                                           eps1e-2 is a coarse tolerance.
 //   BM_SteadySweepMotion/<mesh>/keys      sweptEnvelope of the polySAM at eps 1e-3 (counter
 //                                           spans: its span count)
+//   BM_SweptContains/<mesh>/<motion>/<where> SweptVolume::contains, the exact inside test that
+//                                           the output stage runs for its probes, 1,024 seeded
+//                                           points per iteration (us_per_query: microseconds per
+//                                           query); <where>: `boundary`, within 2 eps of the
+//                                           swept volume's boundary, about half on each side
+//                                           (what the depth probes and crack tests ask: from a
+//                                           body vertex posed at a random time, a crossing
+//                                           of the boundary along a random direction, found by
+//                                           doubling then bisection to eps/64 with the same
+//                                           test outside the timed loop, then moved up to 2 eps
+//                                           either way along it), `box`, uniform in the box of
+//                                           65 posed bodies grown by 10% (counter inside: the
+//                                           share found inside)
 //   BM_VdbSweep/<mesh>/<motion>/h<k>_N<n>   vdbSampledSweep with voxel size k x 1e-3 and n poses;
 //                                           N<auto> means samplesForStep(voxel): no vertex moves
 //                                           more than a voxel between two samples (settings:
@@ -57,6 +70,7 @@
 #include <steady/io/motion_file.hpp>
 #include <steady/sweep/body.hpp>
 #include <steady/sweep/envelope.hpp>
+#include <steady/sweep/inside.hpp>
 
 #ifdef STEADY_BENCH_OPENVDB
 #include "vdb_baseline.hpp"
@@ -77,6 +91,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <random>
 #include <string>
 #include <utility>
 #include <vector>
@@ -309,6 +324,59 @@ void BM_SteadySweepMotion(benchmark::State& state, const std::string& mesh) {
                 env.volume);
 }
 
+// The inside test alone (see the file comment).
+void BM_SweptContains(benchmark::State& state, const std::string& mesh, bool screw, bool boundary) {
+  const SweepBody& b = sweepBody(mesh);
+  if (!b.body) {
+    state.SkipWithError(("invalid body: " + b.invalid).c_str());
+    return;
+  }
+  const steady::Span3 span = spanFor(screw);
+  const steady::sweep::SweptVolume swept(*b.body, span);
+  constexpr std::size_t kPoints = 1024;
+  std::mt19937_64 rng(kErrorSeed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::normal_distribution<double> normal;
+  std::vector<V> points;
+  points.reserve(kPoints);
+  if (boundary) {
+    std::uniform_int_distribution<std::size_t> vertex(0, b.mesh.vertices.size() - 1);
+    while (points.size() < kPoints) {
+      const V dir = V(normal(rng), normal(rng), normal(rng)).normalized();
+      const V x = span.pose(unit(rng)).applyPoint(b.mesh.vertices[vertex(rng)]);  // (in the swept volume)
+      double in = 0, out = kEps;
+      while (out < 8 && swept.contains(x + out * dir)) in = out, out *= 2;
+      if (!(out < 8)) continue;
+      while (out - in > kEps / 64) {
+        const double mid = 0.5 * (in + out);
+        (swept.contains(x + mid * dir) ? in : out) = mid;
+      }
+      points.push_back(x + (in + (2 * unit(rng) - 1) * 2 * kEps) * dir);
+    }
+  } else {
+    V lo = V::Constant(1e300), hi = V::Constant(-1e300);
+    for (int k = 0; k <= 64; ++k)
+      for (const V& p : b.mesh.vertices) {
+        const V x = span.pose(k / 64.0).applyPoint(p);
+        lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+      }
+    const V grow = 0.05 * (hi - lo);
+    lo -= grow, hi += grow;
+    for (std::size_t i = 0; i < kPoints; ++i)
+      points.push_back(lo + V(unit(rng), unit(rng), unit(rng)).cwiseProduct(hi - lo));
+  }
+  std::size_t inside = 0;
+  for (auto _ : state) {
+    inside = 0;
+    for (const V& x : points) inside += swept.contains(x) ? 1 : 0;
+    benchmark::DoNotOptimize(inside);
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * kPoints));
+  state.counters["inside"] = static_cast<double>(inside) / kPoints;
+  state.counters["us_per_query"] = benchmark::Counter(static_cast<double>(state.iterations() * kPoints) * 1e-6,
+                                                       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
 #ifdef STEADY_BENCH_OPENVDB
 // voxel_eps: the voxel size in units of kEps; samples: N, or 0 for samplesForStep(voxel).
 void BM_VdbSweep(benchmark::State& state, const std::string& mesh, bool screw, double voxel_eps, int samples) {
@@ -389,6 +457,13 @@ const bool registered = [] {
 #endif
     }
   }
+  for (const char* name : {"elephant", "knot1", "bunny00"})
+    if (std::ifstream(meshPath(name)).good())
+      for (bool screw : {true, false})
+        for (bool boundary : {true, false})
+          benchmark::RegisterBenchmark(("BM_SweptContains/" + key(name, screw) + (boundary ? "/boundary" : "/box")).c_str(),
+                                       BM_SweptContains, std::string(name), screw, boundary)
+              ->Unit(benchmark::kMillisecond);
   for (const char* name : {"sphere", "elephant"})
     if (std::ifstream(meshPath(name)).good())
       benchmark::RegisterBenchmark((std::string("BM_SteadySweepMotion/") + name + "/keys").c_str(),
