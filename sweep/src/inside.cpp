@@ -189,7 +189,7 @@ struct SweptVolume::Impl {
     box_hi = body.box().hi;
     diag = body.box().diagonal();
     delta = o.tolerance ? *o.tolerance : o.relative_tolerance * diag;
-    tree.build(P, F);
+    tree.build(P, F, 1, true);  // (the boxes kept: see FaceTree::build)
   }
 
   void addSpan(const Span3& span, double t0, double t1, const RootOptions& ro) {
