@@ -3295,7 +3295,7 @@ void fillingProbes(const std::vector<Vec>& V, const std::vector<int>& loop, cons
 // fillings, edge uses) and probed for depth again; if it fails either, the flat filling comes
 // back, so a refinement changes an envelope only where it brings a deep filling within ε at
 // every probe. First measured on the 21 failing cases of the tenth round: one (18970, a bracket
-// screw) passes, its three refined fillings each 1 ε within the probes; the others still fail,
+// screw) passes, its two refined fillings each 1 ε within the probes; the others still fail,
 // reported as before (points not found within reach, faces turned over, too many points).
 // Tried and dropped: moving each point to the mean of its neighbours and onto the boundary
 // again, up to 8 times, where faces turned: the number turned stayed (about 480 of 7,400).
@@ -3304,6 +3304,13 @@ constexpr std::size_t kRefinePoints = 4096;
 constexpr double kRefineReach = 8.0;
 constexpr double kRefineBracket = 1.0 / 64;
 constexpr double kRefineBlend = 8.0;
+
+// The total area of the faces F (of points V).
+double facesArea(const std::vector<Vec>& V, const std::vector<Tri>& F) {
+  double area = 0;
+  for (const Tri& t : F) area += 0.5 * (V[t[1]] - V[t[0]]).cross(V[t[2]] - V[t[0]]).norm();
+  return area;
+}
 
 // Refines the filling F of `loop` (see Refined fillings): on success F holds the refined faces
 // and their new points are appended to V and P; on failure neither changes.
@@ -3326,8 +3333,7 @@ bool refineFilling(std::vector<Vec>& V, std::vector<IPoint>& P, const std::vecto
   };
   for (std::size_t f = 0; f < faces.size(); ++f)
     for (int k = 0; k < 3; ++k) link(faces[f][k], faces[f][(k + 1) % 3], static_cast<int>(f));
-  double area = 0;
-  for (const Tri& t : F) area += 0.5 * (pos(t[1]) - pos(t[0])).cross(pos(t[2]) - pos(t[0])).norm();
+  const double area = facesArea(V, F);
   const double h = std::max(kRefineEdge * eps_t, std::sqrt(8 * area / static_cast<double>(kRefinePoints)));
   std::priority_queue<std::pair<double, std::uint64_t>> queue;  // (length, edge), longest first
   auto consider = [&](int a, int b) {
@@ -4081,9 +4087,7 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
         // (the cover's spacing grows with the filling's area, so that it has about
         // kFillingCover points; of those, the farthest from the loop on each face and the
         // kFillingProbes farthest of the rest are probed)
-        double area = 0;
-        for (const Tri& t : fill[l]) area += 0.5 * (V[t[1]] - V[t[0]]).cross(V[t[2]] - V[t[0]]).norm();
-        const double h = std::max(kFillingProbe * eps_t, std::sqrt(area / kFillingCover));
+        const double h = std::max(kFillingProbe * eps_t, std::sqrt(facesArea(V, fill[l]) / kFillingCover));
         cover.clear();
         for (const Tri& t : fill[l]) {
           pts.clear();
