@@ -2463,6 +2463,7 @@ std::size_t separatePinches(std::vector<Vec>& V, const std::vector<Tri>& T, doub
   P.reserve(V.size());
   for (const Vec& x : V) P.emplace_back(x.x(), x.y(), x.z());
   std::vector<char> moved_face(T.size(), 0);
+  std::vector<char> in_round(groups.size(), 0);  // the groups of todo, by group
   std::vector<int> moved;
   while (!todo.empty()) {
     for (int g : todo)
@@ -2476,29 +2477,39 @@ std::size_t separatePinches(std::vector<Vec>& V, const std::vector<Tri>& T, doub
       for (int v : groups[g])
         for (int f : faces_of[v])
           if (!moved_face[f]) moved_face[f] = 1, moved.push_back(f);
-    std::vector<char> bad(groups.size(), 0);
-    auto blame = [&](std::size_t f) {
-      for (int v : T[f])
-        if (group_of[v] >= 0) bad[group_of[v]] = 1;
+    // A group fails when one of its moved faces crosses any face. (The test is symmetric and
+    // every face at a vertex of a group in the round is moved, so when a moved face crosses a
+    // face of another group in the round, that face is moved too and finds the crossing
+    // itself.) A face stops at its first crossing, and is skipped when every group in the round
+    // at its vertices has already failed; which faces run first (threads) changes the work done,
+    // not the groups that fail.
+    std::vector<std::atomic<char>> bad(groups.size());
+    for (int g : todo) in_round[g] = 1;
+    auto settled = [&](const Tri& t) {
+      for (const int v : t) {
+        const int g = group_of[v];
+        if (g >= 0 && in_round[g] && !bad[g].load(std::memory_order_relaxed)) return false;
+      }
+      return true;
     };
-    // (the moved faces in parallel, each listing the faces it crosses; blamed in order after)
-    std::vector<std::vector<int>> crossed(moved.size());
     parallelFor(0, moved.size(), threads, [&](std::size_t i) {
       const int f = moved[i];
       const Tri& t = T[f];
+      if (settled(t)) return;
       const Vec lo = V[t[0]].cwiseMin(V[t[1]]).cwiseMin(V[t[2]]) - Vec::Constant(reach);
       const Vec hi = V[t[0]].cwiseMax(V[t[1]]).cwiseMax(V[t[2]]) + Vec::Constant(reach);
-      tree.overlapping(lo, hi, [&](int k) {
+      bool hit = false;
+      tree.overlappingUntil(lo, hi, [&](int k) {
         const int g = near[static_cast<std::size_t>(k)];
-        if (g != f && crosses(P, t, T[g])) crossed[i].push_back(g);
+        hit = g != f && crosses(P, t, T[g]);
+        return !hit;
       });
+      if (hit)
+        for (const int v : t)
+          if (group_of[v] >= 0 && in_round[group_of[v]]) bad[group_of[v]].store(1, std::memory_order_relaxed);
     });
-    for (std::size_t i = 0; i < moved.size(); ++i) {
-      moved_face[moved[i]] = 0;
-      if (crossed[i].empty()) continue;
-      blame(static_cast<std::size_t>(moved[i]));
-      for (const int g : crossed[i]) blame(static_cast<std::size_t>(g));
-    }
+    for (const int f : moved) moved_face[f] = 0;
+    for (int g : todo) in_round[g] = 0;
     std::vector<int> again;
     for (int g : todo) {
       if (!bad[g]) continue;
