@@ -48,6 +48,7 @@
 #include "cycle.hpp"
 #include "depth_bound.hpp"
 #include "face_tree.hpp"
+#include "pinches.hpp"
 
 #include <steady/core/error.hpp>
 
@@ -2351,17 +2352,10 @@ std::size_t splitFans(std::vector<Vec>& V, std::vector<Tri>& T, const std::set<s
 // centroid of their fan's ring, and at most this fraction of the tolerance ε.
 constexpr double kPinchStep = 1e-3;
 
-// Moves the copies of every split pinch vertex (vertices at equal positions) a little, so that
-// the fans, which touched at one point, no longer meet. First towards the centroid of each
-// copy's own fan ring (each fan lies on its own side of the point, whether it bounds a solid
-// cone or an empty one); where that fails (sheets touching tangentially), into the solid
-// behind the fan (against its area-weighted normal), then out of it; then towards its ring the
-// copy whose fan opens the widest alone, then the others alone. The step is kPinchStep
-// times the ring distance and at most kPinchStep ε; a group whose moved faces would cross any
-// face (exact test) halves its step, 20 times per direction, and is put back when no direction
-// works. Returns the number of vertices that still share a position. The crossing tests of a
-// round run on `threads` threads (as SweepOptions::threads); the result does not depend on them.
-std::size_t separatePinches(std::vector<Vec>& V, const std::vector<Tri>& T, double eps, int threads) {
+}  // namespace
+
+// (declared and described in pinches.hpp)
+std::size_t detail::separatePinches(std::vector<Vec>& V, const std::vector<Tri>& T, double eps, int threads) {
   // The vertices at equal positions: the runs of the vertices sorted by position (ordered
   // lexicographically, then by number).
   auto atEqualPositions = [&V]() {
@@ -2521,10 +2515,73 @@ std::size_t separatePinches(std::vector<Vec>& V, const std::vector<Tri>& T, doub
     }
     todo.swap(again);
   }
+  // The groups that no direction separated, in clusters of groups joined by edges: the ends of
+  // an edge along which two sheets touch need the same sheet moved at both ends, which the
+  // directions, one per group, may not give (knot1 along data/motions/keys.json: two groups
+  // 19 ε apart joined by two edges, where direction 3 moved one sheet's copy at one end and
+  // the other sheet's at the other). Each copy of a cluster of at most kClusterCopies copies
+  // stays or takes one of directions 0 to 2, every combination in a fixed order, at the full
+  // step and at 2^-10 of it; the first with no crossing is kept, or the cluster is put back.
+  constexpr std::size_t kClusterCopies = 6;
+  auto unseparated = [&](int v) { return group_of[v] >= 0 && direction[group_of[v]] >= kDirections; };
+  std::vector<int> parent(groups.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  std::map<int, std::vector<int>> clusters;  // by smallest group: the copies
+  for (std::size_t g = 0; g < groups.size(); ++g)
+    if (direction[g] >= kDirections)
+      for (const int v : groups[g])
+        for (const int f : faces_of[v])
+          for (const int w : T[f])
+            if (unseparated(w)) {
+              const int a = findRoot(parent, static_cast<int>(g)), b = findRoot(parent, group_of[w]);
+              parent[std::max(a, b)] = std::min(a, b);
+            }
+  for (std::size_t g = 0; g < groups.size(); ++g)
+    if (direction[g] >= kDirections) {
+      std::vector<int>& copies = clusters[findRoot(parent, static_cast<int>(g))];
+      copies.insert(copies.end(), groups[g].begin(), groups[g].end());
+    }
+  for (const auto& [root, copies] : clusters) {
+    if (copies.size() > kClusterCopies) continue;
+    std::vector<int> faces;
+    for (const int v : copies) faces.insert(faces.end(), faces_of[v].begin(), faces_of[v].end());
+    std::sort(faces.begin(), faces.end());
+    faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+    auto place = [&](std::size_t combination, double scale) {  // two bits per copy: 0 stays
+      for (std::size_t i = 0; i < copies.size(); ++i) {
+        const int v = copies[i];
+        const std::size_t k = (combination >> (2 * i)) & 3u;
+        V[v] = k == 0 ? origin[v] : Vec(origin[v] + scale * dir[v][k - 1]);
+        P[v] = IPoint(V[v].x(), V[v].y(), V[v].z());
+      }
+    };
+    auto crossing = [&]() {
+      for (const int f : faces) {
+        const Tri& t = T[f];
+        const Vec lo = V[t[0]].cwiseMin(V[t[1]]).cwiseMin(V[t[2]]) - Vec::Constant(reach);
+        const Vec hi = V[t[0]].cwiseMax(V[t[1]]).cwiseMax(V[t[2]]) + Vec::Constant(reach);
+        bool hit = false;
+        tree.overlappingUntil(lo, hi, [&](int k) {
+          const int g = near[static_cast<std::size_t>(k)];
+          hit = g != f && crosses(P, t, T[g]);
+          return !hit;
+        });
+        if (hit) return true;
+      }
+      return false;
+    };
+    const std::size_t combinations = std::size_t{1} << (2 * copies.size());
+    bool apart = false;
+    for (const double scale : {1.0, std::ldexp(1.0, -10)})
+      for (std::size_t c = 1; c < combinations && !apart; ++c) place(c, scale), apart = !crossing();
+    if (!apart) place(0, 1.0);
+  }
   std::size_t sharing = 0;  // vertices that share a position with a vertex before them
   for (const std::vector<int>& run : atEqualPositions()) sharing += run.size() - 1;
   return sharing;
 }
+
+namespace {
 
 void computeCheck(MeshCheck& c, const std::vector<Vec>& V, const std::vector<Tri>& T, bool self, int threads) {
   // Directed edges: closed and oriented when every edge has one face each way.
@@ -4588,7 +4645,7 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
       }
     env.vertices.swap(kept);
     env.pinched_vertices_split = copies;
-    env.pinches_touching = separatePinches(env.vertices, env.triangles, eps, options.threads);
+    env.pinches_touching = detail::separatePinches(env.vertices, env.triangles, eps, options.threads);
   }
   {  // how deep the output vertices of the kept walls, and their faces' centroids, lie
     const std::vector<int> on_kept = verticesNear(env.vertices, kept_points, kKeptMatch * eps);
