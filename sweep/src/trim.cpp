@@ -2454,6 +2454,19 @@ std::size_t detail::separatePinches(std::vector<Vec>& V, const std::vector<Tri>&
   std::vector<IPoint> P;
   P.reserve(V.size());
   for (const Vec& x : V) P.emplace_back(x.x(), x.y(), x.z());
+  // Whether face f, at the current positions, crosses any face (exact test; stops at the first).
+  auto crossesAny = [&](int f) {
+    const Tri& t = T[f];
+    const Vec lo = V[t[0]].cwiseMin(V[t[1]]).cwiseMin(V[t[2]]) - Vec::Constant(reach);
+    const Vec hi = V[t[0]].cwiseMax(V[t[1]]).cwiseMax(V[t[2]]) + Vec::Constant(reach);
+    bool hit = false;
+    tree.overlappingUntil(lo, hi, [&](int k) {
+      const int g = near[static_cast<std::size_t>(k)];
+      hit = g != f && crosses(P, t, T[g]);
+      return !hit;
+    });
+    return hit;
+  };
   std::vector<char> moved_face(T.size(), 0);
   std::vector<char> in_round(groups.size(), 0);  // the groups of todo, by group
   std::vector<int> moved;
@@ -2488,15 +2501,7 @@ std::size_t detail::separatePinches(std::vector<Vec>& V, const std::vector<Tri>&
       const int f = moved[i];
       const Tri& t = T[f];
       if (settled(t)) return;
-      const Vec lo = V[t[0]].cwiseMin(V[t[1]]).cwiseMin(V[t[2]]) - Vec::Constant(reach);
-      const Vec hi = V[t[0]].cwiseMax(V[t[1]]).cwiseMax(V[t[2]]) + Vec::Constant(reach);
-      bool hit = false;
-      tree.overlappingUntil(lo, hi, [&](int k) {
-        const int g = near[static_cast<std::size_t>(k)];
-        hit = g != f && crosses(P, t, T[g]);
-        return !hit;
-      });
-      if (hit)
+      if (crossesAny(f))
         for (const int v : t)
           if (group_of[v] >= 0 && in_round[group_of[v]]) bad[group_of[v]].store(1, std::memory_order_relaxed);
     });
@@ -2555,25 +2560,13 @@ std::size_t detail::separatePinches(std::vector<Vec>& V, const std::vector<Tri>&
         P[v] = IPoint(V[v].x(), V[v].y(), V[v].z());
       }
     };
-    auto crossing = [&]() {
-      for (const int f : faces) {
-        const Tri& t = T[f];
-        const Vec lo = V[t[0]].cwiseMin(V[t[1]]).cwiseMin(V[t[2]]) - Vec::Constant(reach);
-        const Vec hi = V[t[0]].cwiseMax(V[t[1]]).cwiseMax(V[t[2]]) + Vec::Constant(reach);
-        bool hit = false;
-        tree.overlappingUntil(lo, hi, [&](int k) {
-          const int g = near[static_cast<std::size_t>(k)];
-          hit = g != f && crosses(P, t, T[g]);
-          return !hit;
-        });
-        if (hit) return true;
-      }
-      return false;
-    };
     const std::size_t combinations = std::size_t{1} << (2 * copies.size());
     bool apart = false;
     for (const double scale : {1.0, std::ldexp(1.0, -10)})
-      for (std::size_t c = 1; c < combinations && !apart; ++c) place(c, scale), apart = !crossing();
+      for (std::size_t c = 1; c < combinations && !apart; ++c) {
+        place(c, scale);
+        apart = std::none_of(faces.begin(), faces.end(), crossesAny);
+      }
     if (!apart) place(0, 1.0);
   }
   std::size_t sharing = 0;  // vertices that share a position with a vertex before them
