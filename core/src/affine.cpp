@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <string>
+#include <utility>
 
 namespace steady {
 
@@ -19,6 +20,45 @@ double hadamardRatio(const Eigen::Matrix<double, D, D>& L) {
 }
 
 constexpr double kSingularRatio = 1e-14;
+
+void requireFiniteAngle(double angle) {
+  if (!std::isfinite(angle)) throw Error(ErrorCode::NonFinite, "rotation angle is NaN or infinite; give a finite angle");
+}
+
+// (sin, cos) of an angle in degrees, exact at multiples of 90: the angle is reduced to
+// r in [-45, 45] and a quarter-turn count q by IEEE remainders, which are exact, so a multiple
+// of 90 leaves r = 0 (sin 0, cos 0 exact), and the quarter turns only swap and negate.
+// Continuous across the quadrant borders (r = +-45 from either side: the same values up to
+// rounding).
+std::pair<double, double> sinCosDegrees(double degrees) {
+  const double turn = std::remainder(degrees, 360.0);  // [-180, 180], exact
+  const double r = std::remainder(turn, 90.0);          // [-45, 45], exact
+  const long q = std::lround((turn - r) / 90.0);       // turn - r is a multiple of 90, exactly
+  constexpr double kRadiansPerDegree = 3.14159265358979323846 / 180.0;
+  const double s = std::sin(r * kRadiansPerDegree), c = std::cos(r * kRadiansPerDegree);
+  switch (((q % 4) + 4) % 4) {
+    case 1: return {c, -s};
+    case 2: return {-s, -c};
+    case 3: return {-c, s};
+    default: return {s, c};
+  }
+}
+
+// R = c 1 + s [a]x + (1 - c) a a^T for a unit axis a, with the diagonal written as
+// 1 - (1 - c)(1 - a_i^2): for a = e_k the k-th row and column come out exactly those of the
+// identity (Eigen's AngleAxis forms c + (1 - c), which can round to 1 - 2^-53).
+Eigen::Matrix3d rotationMatrix(const Eigen::Vector3d& a, double s, double c) {
+  const double k = 1.0 - c;
+  Eigen::Matrix3d R;
+  for (int i = 0; i < 3; ++i) R(i, i) = 1.0 - k * (1.0 - a[i] * a[i]);
+  R(0, 1) = k * a[0] * a[1] - s * a[2];
+  R(1, 0) = k * a[0] * a[1] + s * a[2];
+  R(0, 2) = k * a[0] * a[2] + s * a[1];
+  R(2, 0) = k * a[0] * a[2] - s * a[1];
+  R(1, 2) = k * a[1] * a[2] - s * a[0];
+  R(2, 1) = k * a[1] * a[2] + s * a[0];
+  return R;
+}
 
 }  // namespace
 
@@ -48,31 +88,62 @@ Affine<D> Affine<D>::shear(const Vector& s, const Vector& d, double k) {
   return Affine(Linear::Identity() + k * s * d.transpose(), Vector::Zero());
 }
 
+namespace {
+
 template <int D>
-Affine<D> Affine<D>::rotation(double angle) {
+Affine<D> planeRotation(double s, double c) {
   if constexpr (D == 2) {
-    Linear R;
-    const double c = std::cos(angle), s = std::sin(angle);
+    typename Affine<D>::Linear R;
     R << c, -s, s, c;
-    return Affine(R, Vector::Zero());
+    return Affine<D>(R, Affine<D>::Vector::Zero());
   } else {
-    (void)angle;
+    (void)s;
+    (void)c;
     throw Error(ErrorCode::InvalidArgument, "a 3D rotation needs an axis: use rotation(axis, angle)");
   }
 }
 
 template <int D>
-Affine<D> Affine<D>::rotation(const Vector& axis, double angle) {
+Affine<D> axisRotation(const typename Affine<D>::Vector& axis, double s, double c) {
   if constexpr (D == 3) {
     const double n = axis.norm();
     if (!(n > 0) || !axis.allFinite())
       throw Error(ErrorCode::DegenerateInput, "rotation axis is zero or not finite; give a direction");
-    return Affine(Eigen::AngleAxisd(angle, axis / n).toRotationMatrix(), Vector::Zero());
+    return Affine<D>(rotationMatrix(axis / n, s, c), Affine<D>::Vector::Zero());
   } else {
     (void)axis;
-    (void)angle;
+    (void)s;
+    (void)c;
     throw Error(ErrorCode::InvalidArgument, "a 2D rotation has no axis: use rotation(angle)");
   }
+}
+
+}  // namespace
+
+template <int D>
+Affine<D> Affine<D>::rotation(double angle) {
+  requireFiniteAngle(angle);
+  return planeRotation<D>(std::sin(angle), std::cos(angle));
+}
+
+template <int D>
+Affine<D> Affine<D>::rotationDegrees(double degrees) {
+  requireFiniteAngle(degrees);
+  const auto [s, c] = sinCosDegrees(degrees);
+  return planeRotation<D>(s, c);
+}
+
+template <int D>
+Affine<D> Affine<D>::rotation(const Vector& axis, double angle) {
+  requireFiniteAngle(angle);
+  return axisRotation<D>(axis, std::sin(angle), std::cos(angle));
+}
+
+template <int D>
+Affine<D> Affine<D>::rotationDegrees(const Vector& axis, double degrees) {
+  requireFiniteAngle(degrees);
+  const auto [s, c] = sinCosDegrees(degrees);
+  return axisRotation<D>(axis, s, c);
 }
 
 template <int D>

@@ -45,10 +45,24 @@ class Affine {
   /// within 1e-12 (relative), which keeps the shear volume preserving.
   static Affine shear(const Vector& s, const Vector& d, double k);
   /// Rotation about the origin by `angle` radians, counter-clockwise (2D only).
+  /// @throws Error(NonFinite) for a non-finite angle.
   static Affine rotation(double angle);
   /// Rotation about the axis through the origin with direction `axis`, right-handed, by
-  /// `angle` radians (3D only). @throws Error(DegenerateInput) for a zero axis.
+  /// `angle` radians (3D only). About a coordinate axis, that axis's row and column are exactly
+  /// those of the identity, so the planes normal to it stay exactly invariant.
+  /// @throws Error(DegenerateInput) for a zero or non-finite axis, Error(NonFinite) for a
+  /// non-finite angle.
   static Affine rotation(const Vector& axis, double angle);
+  /// Rotation by `degrees`, counter-clockwise (2D only). Exact at every multiple of 90 degrees
+  /// (a quarter turn is `[[0, -1], [1, 0]]`, not cos(pi/2) = 6e-17 off it): the angle is
+  /// reduced exactly to [-45, 45] degrees before its sine and cosine are taken.
+  /// @throws Error(NonFinite) for a non-finite angle.
+  static Affine rotationDegrees(double degrees);
+  /// Rotation about `axis` by `degrees`, right-handed (3D only): as rotation(axis, angle), and
+  /// exact at every multiple of 90 degrees about a coordinate axis (a half turn about z is
+  /// exactly diag(-1, -1, 1)). Motion files' "angle_deg" use it.
+  /// @throws as rotation(axis, angle).
+  static Affine rotationDegrees(const Vector& axis, double degrees);
 
   const Linear& linear() const { return L_; }
   const Vector& translation() const { return t_; }
