@@ -22,7 +22,6 @@ namespace steady::io {
 namespace {
 
 using Json = nlohmann::json;
-constexpr double kPi = 3.14159265358979323846;
 
 std::string num(double x) {
   char buf[32];
@@ -215,7 +214,7 @@ class Parser {
                  (j.contains("axis") ? std::string("the axis is zero") : std::string("there is no \"axis\"")) +
                  "; give a nonzero rotation axis");
       if (!std::isfinite(n)) fail(member(path, "axis"), "the axis is too long to normalise; use a shorter one");
-      R = steady::Affine3::rotation(axis / n, angle_deg * (kPi / 180.0)).linear();
+      R = steady::Affine3::rotationDegrees(axis / n, angle_deg).linear();
     }
     // pose = T * R * S: scale in body coordinates, rotate about the body origin, translate.
     return steady::Affine3(R * scale.asDiagonal(), translation);

@@ -70,6 +70,16 @@ TEST(MotionFile, AxisAnglePoseEqualsMatrixForm) {
   expectNearPose(a.keys[1].pose, want);
 }
 
+// "angle_deg" is taken in degrees, so quarter and half turns about a coordinate axis are exact:
+// data/motions/screw.json's half turn about z must be diag(-1, -1, 1), not sin(pi) = 1.2e-16
+// off it (the noise that tilted the bracket's end cap off the plane of its start cap).
+TEST(MotionFile, QuarterAndHalfTurnsInDegreesAreExact) {
+  const MotionFile half = parseMotion(twoKeys(kId, R"({"translation": [0, 0, 2], "axis": [0, 0, 1], "angle_deg": 180})"), "h.json");
+  EXPECT_EQ(half.keys[1].pose.matrix(), (Eigen::Matrix<double, 3, 4>() << -1, 0, 0, 0, 0, -1, 0, 0, 0, 0, 1, 2).finished());
+  const MotionFile quarter = parseMotion(twoKeys(kId, R"({"axis": [3, 0, 0], "angle_deg": -270, "scale": 1.5})"), "q.json");
+  EXPECT_EQ(quarter.keys[1].pose.matrix(), (Eigen::Matrix<double, 3, 4>() << 1.5, 0, 0, 0, 0, 0, -1.5, 0, 0, 1.5, 0, 0).finished());
+}
+
 TEST(MotionFile, PoseObjectDefaultsAndUniformScale) {
   const MotionFile m = parseMotion(twoKeys("{}", R"({"scale": 2, "axis": [1, 0, 0]})"), "m.json");
   expectNearPose(m.keys[0].pose, steady::Affine3());
