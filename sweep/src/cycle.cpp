@@ -141,7 +141,12 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
                      const GrazingOptions& grazing, int max_steps, int span_index) {
   const GrazingSet gs = grazingSet(body, span, grazing);
   const CleanPoses clean(span);
-  const Affine3 end_pose = end_given ? *end_given : clean(1.0);
+  // The span's end is its key pose, as the joints are (the next span's start): exp(log A) at
+  // τ = 1 carries the log's rounding, and the body at the end is the one the caller posed. A
+  // half turn about the z axis through a face of the body (the bracket along screw.json, 1e-17
+  // of input noise on the axis) left the end cap 3e-17 off the start cap's plane: the exact
+  // trimming kept the void sliver between them, and rounding made its walls cross.
+  const Affine3 end_pose = end_given ? *end_given : span.relative() * span.start();
   if (!end_pose.isFinite())
     throw Error(ErrorCode::NonFinite, "sweptEnvelope: the end pose of span " + std::to_string(span_index) +
                                           " is not finite");

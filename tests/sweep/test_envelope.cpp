@@ -333,6 +333,32 @@ TEST(Envelope, FaceThroughTheScrewAxis) {
   checkEnvelope(m, motion, env, epsOf(m), rng, "bracket about an axis in its face", co);
 }
 
+// The bundled half-turn screw about the z axis, which lies in the plane of the bracket's upright
+// back face (x = 0), with the hole's top and bottom vertices 4.6e-17 off the axis in the mesh
+// (cos 90 degrees in its generator). Near the axis, the face at the end of the span lies on the
+// face at its start, back to back: the swept volume holds both sides, so both go. The end cap
+// used to be posed by exp(log A) at 1, whose sin(pi) = 1.2e-16 put it 3e-17 off the start cap's
+// plane: the exact trimming kept the two faces as walls of a void sliver that thin, and rounding
+// the arrangement's points made them cross (2 self-intersecting pairs; the area 4.2 larger).
+// Now the end cap is posed by the key pose A B, and "angle_deg": 180 gives exactly
+// diag(-1, -1, 1).
+TEST(Envelope, HalfTurnAboutAnAxisInAFaceWithInputNoiseOnTheAxis) {
+  const Mesh m = bundledBracket();
+  const double noise = m.v[147].y();  // the hole's top vertex (0, 4.6e-17, 3): the noise this test is about
+  ASSERT_GT(noise, 0.0);
+  ASSERT_LT(noise, 1e-16);
+  const Motion3 motion = steady::io::readMotionFile(STEADY_DATA_DIR "/motions/screw.json").motion().toMotion(makeBody(m).box());
+  ASSERT_EQ(motion.spanCount(), 1u);
+  const Envelope env = sweep(m, motion);
+  expectOneEmbeddedShell(env);
+  std::mt19937_64 rng(53);
+  CheckOptions co;
+  co.expected_euler = 99;
+  checkEnvelope(m, motion, env, epsOf(m), rng, "bracket on a half-turn screw", co);
+  // No void wall pair at the axis: the back-to-back faces there are about 4.2 of area.
+  EXPECT_LT(env.area, 156.0);
+}
+
 // The same face through the axis on a polySAM of two such spans (the old default motion: quarter
 // turns about the z axis, rising by 2.5 and scaling by 1.2). The run of mesh edges along the axis
 // (body vertices at y = 0 and y = 4.6e-17) once got one line per edge, so the edge between two
