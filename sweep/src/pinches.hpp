@@ -26,6 +26,12 @@ namespace steady::sweep::detail {
 // one of the first three directions, every combination in a fixed order, at the full step and
 // at 2^-10 of it; the first combination with no crossing is kept, or the cluster is put back.
 //
+// A group's moves are tested against its neighbours where they stand in the same round, so a
+// neighbour put back later can void that test. At the end the faces of the moved copies are
+// tested again (as the output check does); the moved groups at a crossing face start over with
+// every other group fixed, then the clusters are retried with the groups put back, for at most
+// 4 passes. Without a crossing nothing changes.
+//
 // Returns the number of vertices that still share a position with a vertex before them (one per
 // pair of copies left touching: Envelope::pinches_touching). The crossing tests of a round run
 // on `threads` threads (as SweepOptions::threads: 0 for all cores); the result does not depend
