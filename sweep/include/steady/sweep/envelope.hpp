@@ -248,7 +248,9 @@ struct Envelope {
   /// its own fan by 1e-3 of the fan's size and at most 1e-3 ε, so that the fans no longer meet
   /// (halving the step while the move would make faces cross). Where no direction per point
   /// works (two sheets touching along an edge, both of whose ends are pinched), the copies of
-  /// the points joined by edges try every combination of their own directions.
+  /// the points joined by edges try every combination of their own directions. The moved
+  /// copies' faces are tested again at the end, since a neighbour that could not move and went
+  /// back may cross them; those copies then search again beside it.
   std::size_t pinched_vertices_split = 0;
   /// Copies of pinch vertices that could not be moved apart without making faces cross and so
   /// still share a position (the check then counts their fans as touching face pairs).
