@@ -46,7 +46,7 @@ std::pair<double, double> sinCosDegrees(double degrees) {
 
 // R = c 1 + s [a]x + (1 - c) a a^T for a unit axis a, with the diagonal written as
 // 1 - (1 - c)(1 - a_i^2): for a = e_k the k-th row and column come out exactly those of the
-// identity (Eigen's AngleAxis forms c + (1 - c), which can round to 1 - 2^-53).
+// identity (Eigen's AngleAxis forms c + (1 - c), which need not round to exactly 1).
 Eigen::Matrix3d rotationMatrix(const Eigen::Vector3d& a, double s, double c) {
   const double k = 1.0 - c;
   Eigen::Matrix3d R;

@@ -53,10 +53,11 @@ struct Cycle {
 // Caps are cut exactly along the grazing chords; every point where a strip meets a cap is a
 // vertex of both (no T-junction), so Q is closed as a chain: every directed edge is matched by
 // its reverse. eps is the tessellation tolerance (tessellation.hpp).
-// `end_pose` may be null: then the span's end key pose `A B` (Span3::relative() times start()) is
-// used, not its exponential at τ = 1, which carries the log's rounding (a half turn about z as
-// exp(pi J) has sin(pi) = 1.2e-16 off the axis). When it is given, the span records its joint in `out` (Cycle::joint_vertex, joint_edge) and the next call
-// must be for the span that starts at `end_pose`: it starts from those vertices.
+// `end_pose` may be null: then the span's end key pose `A B` (Span3::relative() times start())
+// is used, not its exponential at τ = 1, which carries the log's rounding (a half turn about z
+// as exp(pi J) has sin(pi) = 1.2e-16 off the axis). When it is given, the span records its
+// joint in `out` (Cycle::joint_vertex, joint_edge) and the next call must be for the span that
+// starts at `end_pose`: it starts from those vertices.
 void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affine3* end_pose, double eps,
                      const GrazingOptions& grazing, int max_steps, int span_index);
 
