@@ -48,6 +48,7 @@
 #include "cycle.hpp"
 #include "depth_bound.hpp"
 #include "face_tree.hpp"
+#include "filling.hpp"
 #include "pinches.hpp"
 
 #include <steady/core/error.hpp>
@@ -3391,9 +3392,11 @@ void fillingProbes(const std::vector<Vec>& V, const std::vector<int>& loop, cons
 // whose walls were kept 1.1 to 2 ε deep). A filling found deep is refined instead:
 // - its inner edges (not those on the loop, which the surface shares) longer than h are cut in
 //   two, longest first, unless the cut point would lie within h/2 of the loop (the loop lies on
-//   the envelope; without this rule the faces on a long loop edge are cut for ever); h is
-//   kRefineEdge tessellation tolerances (ε), or more for a filling so large that it would need
-//   more than about kRefinePoints new points, and a refinement that needs more fails;
+//   the envelope; without this rule the faces on a long loop edge are cut for ever) or of a point
+//   of the filling (without it, faces whose longest edge lies on the loop were cut at shorter
+//   edges again and again: see detail::bisectFilling); h is kRefineEdge tessellation tolerances
+//   (ε), or more for a filling so large that it would need more than about kRefinePoints new
+//   points, and a refinement that needs more fails;
 // - each new point moves onto the true boundary along a direction that blends the normals of
 //   the flat faces, weighted by exp(-(d / kRefineBlend ε)^2) for the distance d to each face
 //   (per-face normals jump at the filling's bends, and points moved a few ε along them crossed
@@ -3426,15 +3429,13 @@ double facesArea(const std::vector<Vec>& V, const std::vector<Tri>& F) {
   return area;
 }
 
-// Refines the filling F of `loop` (see Refined fillings): on success F holds the refined faces
-// and their new points are appended to V and P; on failure neither changes.
-bool refineFilling(std::vector<Vec>& V, std::vector<IPoint>& P, const std::vector<int>& loop, std::vector<Tri>& F,
-                   double eps_t, const DepthTest& depth, int threads) {
+}  // namespace
+
+bool detail::bisectFilling(const std::vector<Vec>& V, const std::vector<int>& loop, std::vector<Tri>& faces,
+                           std::vector<Vec>& fresh, double h, std::size_t max_points) {
   const int base = static_cast<int>(V.size());
-  std::vector<Vec> fresh;  // the new points (flat, then moved)
+  fresh.clear();
   auto pos = [&](int v) -> const Vec& { return v < base ? V[static_cast<std::size_t>(v)] : fresh[static_cast<std::size_t>(v - base)]; };
-  auto unitNormal = [&](const Tri& t) { return (pos(t[1]) - pos(t[0])).cross(pos(t[2]) - pos(t[0])).normalized(); };
-  std::vector<Tri> faces = F;
   // Per edge: its faces (the second -1 while it has one: a loop edge).
   std::unordered_map<std::uint64_t, std::array<int, 2>> edge;
   auto link = [&](int a, int b, int f) {
@@ -3447,8 +3448,41 @@ bool refineFilling(std::vector<Vec>& V, std::vector<IPoint>& P, const std::vecto
   };
   for (std::size_t f = 0; f < faces.size(); ++f)
     for (int k = 0; k < 3; ++k) link(faces[f][k], faces[f][(k + 1) % 3], static_cast<int>(f));
-  const double area = facesArea(V, F);
-  const double h = std::max(kRefineEdge * eps_t, std::sqrt(8 * area / static_cast<double>(kRefinePoints)));
+  // The points of the filling in a hash grid of cells h/2 wide: a cut whose middle lies within
+  // h/2 of a point is skipped, so that the points stay h/2 apart and their number is bounded.
+  const double cell = 0.5 * h;
+  std::unordered_map<std::uint64_t, std::vector<Vec>> grid;
+  auto cellKey = [&](long long i, long long j, long long k) {
+    return (static_cast<std::uint64_t>(i & 0x1fffff) << 42) | (static_cast<std::uint64_t>(j & 0x1fffff) << 21) |
+           static_cast<std::uint64_t>(k & 0x1fffff);
+  };
+  auto cellOf = [&](const Vec& x) {
+    return std::array<long long, 3>{{std::llround(std::floor(x.x() / cell)), std::llround(std::floor(x.y() / cell)),
+                                     std::llround(std::floor(x.z() / cell))}};
+  };
+  auto place = [&](const Vec& x) {
+    const auto c = cellOf(x);
+    grid[cellKey(c[0], c[1], c[2])].push_back(x);
+  };
+  auto crowded = [&](const Vec& x) {
+    const auto c = cellOf(x);
+    for (long long i = c[0] - 1; i <= c[0] + 1; ++i)
+      for (long long j = c[1] - 1; j <= c[1] + 1; ++j)
+        for (long long k = c[2] - 1; k <= c[2] + 1; ++k) {
+          const auto it = grid.find(cellKey(i, j, k));
+          if (it == grid.end()) continue;
+          for (const Vec& y : it->second)
+            if ((x - y).norm() < cell) return true;
+        }
+    return false;
+  };
+  {
+    std::vector<int> points;
+    for (const Tri& t : faces) points.insert(points.end(), t.begin(), t.end());
+    std::sort(points.begin(), points.end());
+    points.erase(std::unique(points.begin(), points.end()), points.end());
+    for (const int v : points) place(V[static_cast<std::size_t>(v)]);
+  }
   std::priority_queue<std::pair<double, std::uint64_t>> queue;  // (length, edge), longest first
   auto consider = [&](int a, int b) {
     const auto it = edge.find(edgeKey(a, b));
@@ -3456,14 +3490,14 @@ bool refineFilling(std::vector<Vec>& V, std::vector<IPoint>& P, const std::vecto
     const double len = (pos(a) - pos(b)).norm();
     if (len > h && distanceToLoop(V, loop, 0.5 * (pos(a) + pos(b))) > 0.5 * h) queue.emplace(len, edgeKey(a, b));
   };
-  for (const Tri& t : F)
-    for (int k = 0; k < 3; ++k) consider(t[k], t[(k + 1) % 3]);
+  for (std::size_t f = 0, n = faces.size(); f < n; ++f)
+    for (int k = 0; k < 3; ++k) consider(faces[f][k], faces[f][(k + 1) % 3]);
   while (!queue.empty()) {
     const std::uint64_t key = queue.top().second;
     queue.pop();
     const auto it = edge.find(key);
     if (it == edge.end()) continue;  // (cut already)
-    if (fresh.size() == kRefinePoints) return false;
+    if (fresh.size() == max_points) return false;
     const auto [f, g] = it->second;
     // f = (p, q, c) runs p -> q; g = (q, p, d) runs back.
     Tri& s = faces[static_cast<std::size_t>(f)];
@@ -3474,8 +3508,11 @@ bool refineFilling(std::vector<Vec>& V, std::vector<IPoint>& P, const std::vecto
     const Tri& u = faces[static_cast<std::size_t>(g)];
     const int d = u[0] != p && u[0] != q ? u[0] : u[1] != p && u[1] != q ? u[1] : u[2];
     if (d == c) return false;  // (the two faces fold onto each other)
+    const Vec middle = 0.5 * (pos(p) + pos(q));
+    if (crowded(middle)) continue;
     const int m = base + static_cast<int>(fresh.size());
-    fresh.push_back(0.5 * (pos(p) + pos(q)));
+    fresh.push_back(middle);
+    place(middle);
     const int f2 = static_cast<int>(faces.size()), g2 = f2 + 1;
     faces[static_cast<std::size_t>(f)] = {{p, m, c}};
     faces[static_cast<std::size_t>(g)] = {{q, m, d}};
@@ -3490,6 +3527,23 @@ bool refineFilling(std::vector<Vec>& V, std::vector<IPoint>& P, const std::vecto
     link(m, d, g), link(m, d, g2);
     for (const int x : {p, q, c, d}) consider(m, x);
   }
+  return true;
+}
+
+namespace {
+
+// Refines the filling F of `loop` (see Refined fillings): on success F holds the refined faces
+// and their new points are appended to V and P; on failure neither changes.
+bool refineFilling(std::vector<Vec>& V, std::vector<IPoint>& P, const std::vector<int>& loop, std::vector<Tri>& F,
+                   double eps_t, const DepthTest& depth, int threads) {
+  const int base = static_cast<int>(V.size());
+  std::vector<Vec> fresh;  // the new points (flat, then moved)
+  auto pos = [&](int v) -> const Vec& { return v < base ? V[static_cast<std::size_t>(v)] : fresh[static_cast<std::size_t>(v - base)]; };
+  auto unitNormal = [&](const Tri& t) { return (pos(t[1]) - pos(t[0])).cross(pos(t[2]) - pos(t[0])).normalized(); };
+  std::vector<Tri> faces = F;
+  const double area = facesArea(V, F);
+  const double h = std::max(kRefineEdge * eps_t, std::sqrt(8 * area / static_cast<double>(kRefinePoints)));
+  if (!detail::bisectFilling(V, loop, faces, fresh, h, kRefinePoints)) return false;
   if (fresh.empty()) return false;
   // (the directions blend the normals of the flat faces by their distance, so that they turn
   // smoothly across the filling's bends)
@@ -3533,8 +3587,14 @@ bool refineFilling(std::vector<Vec>& V, std::vector<IPoint>& P, const std::vecto
     x += 0.5 * (lo + hi) * dir;
     return true;
   };
+  // (a point not found fails the refinement: the others need not be sought then)
   std::vector<char> found(fresh.size(), 0);
-  parallelFor(0, fresh.size(), threads, [&](std::size_t i) { found[i] = onto(fresh[i], along[i]); });
+  std::atomic<bool> lost{false};
+  parallelFor(0, fresh.size(), threads, [&](std::size_t i) {
+    if (lost.load(std::memory_order_relaxed)) return;
+    found[i] = onto(fresh[i], along[i]);
+    if (!found[i]) lost.store(true, std::memory_order_relaxed);
+  });
   if (std::find(found.begin(), found.end(), 0) != found.end()) return false;
   std::vector<IPoint> Q;
   Q.reserve(fresh.size());
