@@ -2592,13 +2592,13 @@ std::size_t detail::separatePinches(std::vector<Vec>& V, const std::vector<Tri>&
   // kRecheckPasses passes. An envelope with no crossing left is not touched by this (the test
   // is the output check's: exact, faces with collinear corners aside).
   constexpr int kRecheckPasses = 4;
+  std::vector<int> at_copies;  // the faces at a copy (the same in every pass)
+  for (const std::vector<int>& group : groups)
+    for (const int v : group) at_copies.insert(at_copies.end(), faces_of[v].begin(), faces_of[v].end());
+  std::sort(at_copies.begin(), at_copies.end());
+  at_copies.erase(std::unique(at_copies.begin(), at_copies.end()), at_copies.end());
+  auto movedCopy = [&](int v) { return group_of[v] >= 0 && V[v] != origin[v]; };
   for (int pass = 0; pass < kRecheckPasses; ++pass) {
-    std::vector<int> at_copies;
-    for (const std::vector<int>& group : groups)
-      for (const int v : group) at_copies.insert(at_copies.end(), faces_of[v].begin(), faces_of[v].end());
-    std::sort(at_copies.begin(), at_copies.end());
-    at_copies.erase(std::unique(at_copies.begin(), at_copies.end()), at_copies.end());
-    auto movedCopy = [&](int v) { return group_of[v] >= 0 && V[v] != origin[v]; };
     std::vector<char> crossing(at_copies.size(), 0);
     parallelFor(0, at_copies.size(), threads, [&](std::size_t i) {
       const Tri& t = T[static_cast<std::size_t>(at_copies[i])];
