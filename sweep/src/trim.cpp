@@ -3588,14 +3588,11 @@ bool refineFilling(std::vector<Vec>& V, std::vector<IPoint>& P, const std::vecto
     return true;
   };
   // (a point not found fails the refinement: the others need not be sought then)
-  std::vector<char> found(fresh.size(), 0);
   std::atomic<bool> lost{false};
   parallelFor(0, fresh.size(), threads, [&](std::size_t i) {
-    if (lost.load(std::memory_order_relaxed)) return;
-    found[i] = onto(fresh[i], along[i]);
-    if (!found[i]) lost.store(true, std::memory_order_relaxed);
+    if (!lost.load(std::memory_order_relaxed) && !onto(fresh[i], along[i])) lost.store(true, std::memory_order_relaxed);
   });
-  if (std::find(found.begin(), found.end(), 0) != found.end()) return false;
+  if (lost.load()) return false;
   std::vector<IPoint> Q;
   Q.reserve(fresh.size());
   for (const Vec& x : fresh) Q.emplace_back(x.x(), x.y(), x.z());
