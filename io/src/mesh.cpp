@@ -793,7 +793,8 @@ void append(TriangleMesh& into, const TriangleMesh& part) {
                                          " vertices, more than an int face index can address");
   const int shift = static_cast<int>(offset);
   into.vertices.insert(into.vertices.end(), part.vertices.begin(), part.vertices.end());
-  into.faces.reserve(into.faces.size() + part.faces.size());
+  // (no reserve of the exact size: it would copy every face of `into` again on each call, so
+  // that appending n parts cost O(n^2); push_back grows the capacity geometrically)
   for (const auto& f : part.faces) into.faces.push_back({f[0] + shift, f[1] + shift, f[2] + shift});
 }
 
