@@ -3857,8 +3857,8 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
   // (first_tested) and which of those crossed nothing, for the next round. (Each round tested
   // every filling against the whole surface again, though a round changes the surface only
   // near the mouths that failed before: on bunny00 along data/motions/screw.json, 348k surface
-  // faces of which 9 to 2,386 changed, the first check of rounds 1 to 10 took 0.55 s, now
-  // 0.30-0.34 s, plus 0.06-0.08 s to keep and look up the memory.)
+  // faces of which 9 to 2,386 changed, the first check of a round took 0.55-0.81 s, and
+  // 0.30-0.34 s in rounds 1 to 10 now, plus 0.06-0.08 s to keep and look up the memory.)
   std::vector<char> clear_before(loops.size(), 0), first_tested(loops.size(), 0);
   std::vector<int> changed_faces;
   std::vector<Tri> changed_tris;
