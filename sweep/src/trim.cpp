@@ -3637,13 +3637,12 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
     std::uint64_t key;
     int faces, net;
   };
-  auto edgeUses = [threads, &V](std::initializer_list<const std::vector<Tri>*> lists) {
+  // (sort: orders the (edge, direction) pairs of all the faces' edges by edge)
+  auto edgeUsesBy = [](const std::vector<Tri>& faces, auto&& sort) {
     std::vector<std::pair<std::uint64_t, int>> all;
-    for (const std::vector<Tri>* list : lists)
-      for (const Tri& t : *list)
-        for (int k = 0; k < 3; ++k)
-          all.emplace_back(edgeKey(t[k], t[(k + 1) % 3]), t[k] < t[(k + 1) % 3] ? 1 : -1);
-    bucketSort(all, V.size(), [](const std::pair<std::uint64_t, int>& x) { return x.first >> 32; }, threads);
+    for (const Tri& t : faces)
+      for (int k = 0; k < 3; ++k) all.emplace_back(edgeKey(t[k], t[(k + 1) % 3]), t[k] < t[(k + 1) % 3] ? 1 : -1);
+    sort(all);
     std::vector<EdgeUse> out;
     for (const auto& [key, dir] : all) {
       if (out.empty() || out.back().key != key) out.push_back({key, 0, 0});
@@ -3651,6 +3650,11 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
       out.back().net += dir;
     }
     return out;
+  };
+  auto edgeUses = [threads, &V, &edgeUsesBy](const std::vector<Tri>& faces) {
+    return edgeUsesBy(faces, [&](std::vector<std::pair<std::uint64_t, int>>& all) {
+      bucketSort(all, V.size(), [](const std::pair<std::uint64_t, int>& x) { return x.first >> 32; }, threads);
+    });
   };
   // The use of an edge in a sorted list of edge uses (none: 0 faces).
   auto byKey = [](const EdgeUse& e, std::uint64_t x) { return e.key < x; };  // (for lower_bound)
@@ -3733,7 +3737,7 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
     }
     for (const auto& e : edges) next_edge[static_cast<std::size_t>(e.first)] = end_edge[static_cast<std::size_t>(e.first)] = 0;
   };
-  surface_use = edgeUses({&T});
+  surface_use = edgeUses(T);
   traceLoops();
   // Flaps (see Flaps) are left out before the loops are filled, and the loops traced again,
   // up to kFlapPasses times: leaving flaps out joins loops into new ones, with flaps of their own.
@@ -3883,24 +3887,17 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
     // filling edge again, though the later checks of a round have few fresh loops: on bunny00
     // along data/motions/screw.json the edge checks of a round's five checks took 0.47-0.78 s,
     // now 0.24-0.63 s, the first check the same.)
-    const std::vector<EdgeUse> added_use = edgeUses({&added});
+    const std::vector<EdgeUse> added_use = edgeUses(added);
     auto wrong = [](const EdgeUse& a, int faces, int net) { return a.faces + faces != 2 || a.net + net != 0; };
     std::vector<std::pair<std::uint64_t, int>> fresh_wrong;  // (edge, fresh loop) used wrongly by all
-    std::vector<std::pair<std::uint64_t, int>> uses;         // (edge, direction) of one filling
     for (std::size_t l = 0; l < loops.size(); ++l) {
       if (!fresh[l]) continue;
       own_wrong[l].clear();
-      uses.clear();
-      for (const Tri& t : fill[l])
-        for (int k = 0; k < 3; ++k) uses.emplace_back(edgeKey(t[k], t[(k + 1) % 3]), t[k] < t[(k + 1) % 3] ? 1 : -1);
-      std::sort(uses.begin(), uses.end());
-      for (std::size_t i = 0; i < uses.size();) {
-        const std::uint64_t key = uses[i].first;
-        int faces = 0, net = 0;
-        for (; i < uses.size() && uses[i].first == key; ++i) ++faces, net += uses[i].second;
-        const EdgeUse a = useOf(surface_use, key), b = useOf(added_use, key);
-        if (wrong(a, faces, net)) own_wrong[l].push_back(key);  // (in increasing order)
-        if (wrong(a, b.faces, b.net)) fresh_wrong.emplace_back(key, static_cast<int>(l));
+      const std::vector<EdgeUse> own = edgeUsesBy(fill[l], [](auto& all) { std::sort(all.begin(), all.end()); });
+      for (const EdgeUse& u : own) {
+        const EdgeUse a = useOf(surface_use, u.key), b = useOf(added_use, u.key);
+        if (wrong(a, u.faces, u.net)) own_wrong[l].push_back(u.key);  // (in increasing order)
+        if (wrong(a, b.faces, b.net)) fresh_wrong.emplace_back(u.key, static_cast<int>(l));
       }
     }
     for (std::size_t l = 0; l < loops.size(); ++l)
@@ -3961,9 +3958,7 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
       }
     });
     for (std::size_t l = 0; l < loops.size(); ++l)
-      if (fresh[l]) clear_before[l] = 0;
-    for (std::size_t l = 0; l < loops.size(); ++l)
-      if (fresh[l]) last_hits[l].clear();
+      if (fresh[l]) clear_before[l] = 0, last_hits[l].clear();
     for (std::size_t f = 0; f < added.size(); ++f) {
       if (crossed[f].empty()) continue;
       const auto l = static_cast<std::size_t>(loop_of[f]);
@@ -4768,12 +4763,11 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
       }
       continue;
     }
-    const std::vector<int>& point_of = origin;  // (the selection's vertices in arrangement numbers)
     // Leave the rims out: the selected faces on the same three points.
     if (!rim.empty()) {
       std::set<std::array<int, 3>> rim_points;
       for (const Tri& t : rim) {
-        std::array<int, 3> key{{point_of[t[0]], point_of[t[1]], point_of[t[2]]}};
+        std::array<int, 3> key{{origin[t[0]], origin[t[1]], origin[t[2]]}};
         std::sort(key.begin(), key.end());
         rim_points.insert(key);
       }
@@ -4790,8 +4784,8 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
     std::vector<char> at_mouth(A.points.size(), 0);
     std::vector<std::uint64_t> trouble_edges;
     for (const auto& [a, b] : trouble) {
-      at_mouth[point_of[a]] = at_mouth[point_of[b]] = 1;
-      trouble_edges.push_back(edgeKey(point_of[a], point_of[b]));
+      at_mouth[origin[a]] = at_mouth[origin[b]] = 1;
+      trouble_edges.push_back(edgeKey(origin[a], origin[b]));
     }
     std::sort(trouble_edges.begin(), trouble_edges.end());
     auto onTroubledEdge = [&](const Tri& t) {
