@@ -308,6 +308,58 @@ struct SweptVolume::Impl {
     return std::abs(winding(y)) >= 0.5;
   }
 
+  // --- static tests at a time (hints) --------------------------------------------------------
+
+  // Whether x lies strictly inside the body posed at span time tau: its body point y, computed
+  // through the span's power at -tau, lies farther than a margin plus its error from every face
+  // and inside by ray parity. The error bound (1e-12 of the magnitudes involved) covers the
+  // rounding of y and the error of the computed power (about 1e-14, see the core's accuracy),
+  // so the true point at tau is inside too. False means "not shown", never "outside".
+  bool insideAt(const SpanData& sd, double tau, const Vec& x) const {
+    const Affine3 back = sd.roots.span().power(-tau);
+    const Vec y = sd.Binv.applyPoint(back.applyPoint(x));
+    if (!y.allFinite()) return false;
+    const double err =
+        1e-12 * (y.norm() + diag + sd.binv_norm * (back.linear().norm() * x.norm() + back.translation().norm()));
+    if ((y.array() < box_lo.array() - err).any() || (y.array() > box_hi.array() + err).any()) return false;
+    const double margin = std::max(delta * sd.binv_norm, err), rho = margin + err;
+    bool near = false;
+    tree.overlappingUntil(y - Vec::Constant(rho), y + Vec::Constant(rho), [&](int f) {
+      near = triangleDistance(y, P[F[f][0]], P[F[f][1]], P[F[f][2]]) <= rho;
+      return !near;
+    });
+    return !near && parity(y, 0.5 * margin) == 1;  // (half: the distances above are rounded)
+  }
+
+  // The hint's scan (see SweptVolume::hint): from the time query() found, steps of kHintStep
+  // until a static test shows x inside (at most kHintSteps of them), then steps doubling from
+  // there while it stays inside (at most kHintSteps steps away); the hint is the middle of the
+  // run found. (A linear scan of the whole run would take up to 256 static tests; this takes
+  // about ten.)
+  static constexpr double kHintStep = 0x1.0p-16;
+  static constexpr int kHintSteps = 256;
+
+  std::optional<InsideHint> hint(const Vec& x) const {
+    const InsideResult r = query(x);
+    if (!r.inside) return std::nullopt;
+    const SpanData& sd = spans[r.span];
+    const double from = r.face < 0 ? 0.0 : std::min(1.0, std::max(0.0, (r.time - sd.t0) / (sd.t1 - sd.t0)));
+    double first = -1;
+    for (int k = r.face < 0 ? 0 : 1; k <= kHintSteps && first < 0; ++k) {
+      const double tau = from + k * kHintStep;
+      if (tau > 1) break;
+      if (insideAt(sd, tau, x)) first = tau;
+    }
+    if (first < 0) return std::nullopt;
+    double last = first;
+    for (int k = 1; k <= kHintSteps; k *= 2) {
+      const double tau = first + k * kHintStep;
+      if (tau > 1 || !insideAt(sd, tau, x)) break;
+      last = tau;
+    }
+    return InsideHint{r.span, 0.5 * (first + last)};
+  }
+
   // --- crossings along a span ----------------------------------------------------------------
 
   // World distance from x to face f posed at span time tau, and the largest speed of its corners.
@@ -482,6 +534,16 @@ SweptVolume& SweptVolume::operator=(SweptVolume&&) noexcept = default;
 bool SweptVolume::contains(const Eigen::Vector3d& x) const { return impl_->query(x).inside; }
 
 InsideResult SweptVolume::query(const Eigen::Vector3d& x) const { return impl_->query(x); }
+
+std::optional<InsideHint> SweptVolume::hint(const Eigen::Vector3d& x) const { return impl_->hint(x); }
+
+bool SweptVolume::contains(const Eigen::Vector3d& y, const InsideHint& hint) const {
+  if (!y.allFinite()) throw Error(ErrorCode::NonFinite, "SweptVolume: the query point has a NaN or infinite coordinate");
+  if (hint.span < impl_->spans.size() && hint.tau >= 0 && hint.tau <= 1 &&
+      impl_->insideAt(impl_->spans[hint.span], hint.tau, y))
+    return true;
+  return impl_->query(y).inside;
+}
 
 bool SweptVolume::containsAtStart(const Eigen::Vector3d& x) const {
   if (!x.allFinite()) throw Error(ErrorCode::NonFinite, "SweptVolume: the query point has a NaN or infinite coordinate");

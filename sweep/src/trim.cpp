@@ -78,6 +78,7 @@
 #include <map>
 #include <memory>
 #include <numeric>
+#include <optional>
 #include <queue>
 #include <random>
 #include <set>
@@ -4528,19 +4529,25 @@ std::vector<int> verticesNear(const std::vector<Vec>& V, const std::vector<Vec>&
   return out;
 }
 
+// Inside tests of one vertex's depth bound before the rest are asked with a hint (see
+// surfaceDepths): most vertices are settled by their first few probes, and a hint costs a
+// query and about ten static tests (at most 265, see SweptVolume::hint).
+constexpr int kHintAfter = 64;
+
 // The certified depth bounds of the vertices `which` of the surface (V, T) (see
 // depth_bound.hpp), in parallel, with the surface's directions at each: across it the vertex
 // normal (the sum of its faces' area-weighted normals) and the faces' normals, along it the
-// vertex's edges and 12 directions in the plane of each of those normals, and its faces.
-// Returns the largest bound, and the vertices whose bound exceeds ε.
+// vertex's edges and 12 directions in the plane of each of those normals, and its faces; the
+// inside tests by `swept`, with a hint after kHintAfter of them. Returns the largest bound,
+// and the vertices whose bound exceeds ε.
 struct DepthBound {
   double worst = 0;
   std::vector<int> beyond;  // the vertices whose bound exceeds ε, in increasing order
 };
 DepthBound surfaceDepths(const std::vector<Vec>& V, const std::vector<Tri>& T, const std::vector<int>& which, double eps,
-                         double delta, const std::function<bool(const Vec&)>& inside_swept, int threads) {
+                         double delta, const SweptVolume& swept, int threads) {
   DepthBound out;
-  if (which.empty() || !inside_swept) return out;
+  if (which.empty()) return out;
   std::vector<int> slot(V.size(), -1);
   for (std::size_t i = 0; i < which.size(); ++i) slot[static_cast<std::size_t>(which[i])] = static_cast<int>(i);
   std::vector<Vec> vertex_normal(which.size(), Vec::Zero());
@@ -4578,7 +4585,18 @@ DepthBound surfaceDepths(const std::vector<Vec>& V, const std::vector<Tri>& T, c
       circle(n);
     }
     for (const auto& f : p.faces) circle(f.normal);
-    bound[i] = detail::depthBound(V[static_cast<std::size_t>(which[i])], eps, delta, inside_swept, p);
+    // A vertex still unsettled after kHintAfter inside tests asks the rest with a hint: a time
+    // at which it lies inside the posed body, where most of its probes do too (see
+    // SweptVolume::hint; the same answers). On bunny00 along data/motions/screw.json the 84
+    // vertices not certified within ε each try about 16,000 probes, nearly all inside.
+    const Vec& x = V[static_cast<std::size_t>(which[i])];
+    std::optional<InsideHint> hint;
+    int calls = 0;
+    auto inside = [&](const Vec& q) {
+      if (++calls == kHintAfter) hint = swept.hint(x);
+      return hint ? swept.contains(q, *hint) : swept.contains(q);
+    };
+    bound[i] = detail::depthBound(x, eps, delta, inside, p);
   });
   for (std::size_t i = 0; i < which.size(); ++i) {
     out.worst = std::max(out.worst, bound[i]);
@@ -4615,9 +4633,10 @@ DepthBound centroidDepths(const std::vector<Vec>& V, const std::vector<Tri>& T, 
   return out;
 }
 
-Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const SweepOptions& options,
-                    const std::function<bool(const Vec&)>& inside_swept, double inside_tolerance,
-                    std::chrono::steady_clock::time_point t_start, double t_cycle) {
+Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const SweptVolume& swept,
+                    const SweepOptions& options, std::chrono::steady_clock::time_point t_start, double t_cycle) {
+  const std::function<bool(const Vec&)> inside_swept = [&swept](const Vec& x) { return swept.contains(x); };
+  const double inside_tolerance = swept.tolerance();
   Envelope env;
   env.tolerance = eps;
   env.spans = spans;
@@ -4888,7 +4907,7 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
   {  // how deep the output vertices of the kept walls, and their faces' centroids, lie
     const std::vector<int> on_kept = verticesNear(env.vertices, kept_points, kKeptMatch * eps);
     const DepthBound depth =
-        surfaceDepths(env.vertices, env.triangles, on_kept, eps, inside_tolerance, inside_swept, options.threads);
+        surfaceDepths(env.vertices, env.triangles, on_kept, eps, inside_tolerance, swept, options.threads);
     const DepthBound faces = centroidDepths(env.vertices, env.triangles, on_kept, certify, options.threads);
     env.kept_wall_vertices = on_kept.size();
     env.kept_wall_depth_bound = std::max(depth.worst, faces.worst);
@@ -4920,7 +4939,7 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
       for (std::size_t v = 0; v < inner.size(); ++v)
         if (inner[v]) which.push_back(static_cast<int>(v));
       const DepthBound depth =
-          surfaceDepths(env.vertices, env.triangles, which, eps, inside_tolerance, inside_swept, options.threads);
+          surfaceDepths(env.vertices, env.triangles, which, eps, inside_tolerance, swept, options.threads);
       const DepthBound faces = centroidDepths(env.vertices, env.triangles, which, certify, options.threads);
       env.cavity_vertices = which.size();
       env.cavity_depth_bound = std::max(depth.worst, faces.worst);
@@ -4976,8 +4995,7 @@ Envelope sweptEnvelope(const Body& body, const Motion3& motion, const SweepOptio
   }
   if (n > 1) detail::cancelOpposite(cycle);
   const SweptVolume swept(body, motion);
-  return envelopeOf(std::move(cycle), eps, n, options, [&](const Vec& x) { return swept.contains(x); },
-                    swept.tolerance(), t_start, seconds(t_start));
+  return envelopeOf(std::move(cycle), eps, n, swept, options, t_start, seconds(t_start));
 }
 
 Envelope sweptEnvelope(const Body& body, const Span3& span, const SweepOptions& options) {
@@ -4987,8 +5005,7 @@ Envelope sweptEnvelope(const Body& body, const Span3& span, const SweepOptions& 
   if (options.progress) options.progress({"cycle", 0.0});
   detail::appendSpanCycle(cycle, body, span, nullptr, kTessellationShare * eps, options.grazing, options.max_steps, 0);
   const SweptVolume swept(body, span);
-  return envelopeOf(std::move(cycle), eps, 1, options, [&](const Vec& x) { return swept.contains(x); },
-                    swept.tolerance(), t_start, seconds(t_start));
+  return envelopeOf(std::move(cycle), eps, 1, swept, options, t_start, seconds(t_start));
 }
 
 MeshCheck inspectMesh(const std::vector<Eigen::Vector3d>& vertices, const std::vector<std::array<int, 3>>& triangles,

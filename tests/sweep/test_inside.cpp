@@ -24,6 +24,7 @@ using steady::ErrorCode;
 using steady::Motion3;
 using steady::Span3;
 using steady::sweep::Body;
+using steady::sweep::InsideHint;
 using steady::sweep::InsideOptions;
 using steady::sweep::InsideResult;
 using steady::sweep::SweptVolume;
@@ -371,6 +372,96 @@ TEST(Inside, QueryRate) {
   EXPECT_GT(inside, 0);
 }
 
+// ---- hints --------------------------------------------------------------------------------------
+
+TEST(Inside, HintIsATimeInsideThePosedBody) {
+  // The translated box of BoxTranslatedIsTheMinkowskiSum: body point y is inside the posed box
+  // at tau iff y - tau d lies in [0, 1]^3.
+  const Body body = makeBody(box(V(0, 0, 0), V(1, 1, 1)));
+  const V d(2, 0.5, 0.3);
+  const Affine3 B = Affine3::translation(V(0.3, -1, 2)) * Affine3::rotation(V(1, 2, 3), 0.8);
+  const SweptVolume sv(body, Span3::between(B, B * Affine3::translation(d)));
+  auto strictlyIn = [&](const V& y, double tau) {
+    const V z = y - tau * d;
+    return (z.array() > 1e-9).all() && (z.array() < 1 - 1e-9).all();
+  };
+  // Entered through the face x = 1 at tau = 0.75, inside until the end: the hint lies just
+  // after the entry (the scan's first 256 steps of 2^-16 are all inside).
+  const V y(2.5, 0.5, 0.5);
+  const std::optional<InsideHint> h = sv.hint(B.applyPoint(y));
+  ASSERT_TRUE(h.has_value());
+  EXPECT_EQ(h->span, 0u);
+  EXPECT_GT(h->tau, 0.75);
+  EXPECT_LT(h->tau, 0.75 + 257.0 / 65536);
+  EXPECT_TRUE(strictlyIn(y, h->tau));
+  // Inside at the start: the hint starts at tau = 0.
+  const std::optional<InsideHint> h0 = sv.hint(B.applyPoint(V(0.5, 0.5, 0.5)));
+  ASSERT_TRUE(h0.has_value());
+  EXPECT_LT(h0->tau, 257.0 / 65536);
+  // Never reached: no hint.
+  EXPECT_FALSE(sv.hint(B.applyPoint(V(0.5, 2.5, 0.5))).has_value());
+  EXPECT_FALSE(sv.hint(B.applyPoint(V(-1, 0.5, 0.5))).has_value());
+  // Random points about their own hints' times agree with the closed form.
+  std::mt19937_64 rng(31);
+  int hinted = 0;
+  for (int n = 0; n < 400; ++n) {
+    const V p(uniform(rng, -0.3, 3.3), uniform(rng, -0.2, 1.7), uniform(rng, -0.2, 1.5));
+    const std::optional<InsideHint> hp = sv.hint(B.applyPoint(p));
+    if (!hp) continue;
+    ++hinted;
+    ASSERT_TRUE(strictlyIn(p, hp->tau)) << p.transpose() << " at " << hp->tau;
+  }
+  EXPECT_GT(hinted, 80);
+}
+
+// contains(y, hint) gives contains(y)'s answers: points near hinted points (where the static
+// test settles most inside answers), far from them (where it falls back), with hints of the
+// wrong time and with hints out of range. Seeded, over the oracle test's meshes and motions.
+TEST(Inside, HintedAnswersMatchThePlainOnes) {
+  std::mt19937_64 rng(2025);
+  const std::vector<Mesh> meshes = {box(V(-0.5, -0.3, -0.2), V(0.5, 0.3, 0.2)), uvSphere(6, 10, 0.6), lShape(0.5),
+                                    torus(0.7, 0.25, 10, 6)};
+  int hinted = 0, near_inside = 0, compared = 0;
+  for (const Mesh& mesh : meshes)
+    for (const MotionKind kind :
+         {MotionKind::Screw, MotionKind::Translation, MotionKind::Affine, MotionKind::ShearScale, MotionKind::PolySam}) {
+      const Motion3 motion = randomMotion(kind, rng);
+      const Body body = makeBody(mesh);
+      const SweptVolume sv(body, motion);
+      const MovingBody mb(mesh, motion);
+      V lo, hi;
+      sweptBox(mb, lo, hi);
+      const double size = (hi - lo).norm();
+      for (int n = 0; n < 40; ++n) {
+        // (a point of a random face posed at a random time, moved a little: near the surface)
+        const auto& f = mesh.f[std::uniform_int_distribution<std::size_t>(0, mesh.f.size() - 1)(rng)];
+        const double t = uniform(rng, motion.beginTime(), motion.endTime());
+        const V x = motion.pose(t).applyPoint((mesh.v[f[0]] + mesh.v[f[1]] + mesh.v[f[2]]) / 3.0) +
+                    0.01 * size * V(uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1));
+        const std::optional<InsideHint> h = sv.hint(x);
+        if (!h) continue;
+        ++hinted;
+        for (int k = 0; k < 30; ++k) {
+          const double r = size * (k % 3 == 0 ? 1e-3 : k % 3 == 1 ? 2e-2 : 0.3);
+          const V q = x + r * V(uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1));
+          const bool plain = sv.contains(q);
+          ASSERT_EQ(sv.contains(q, *h), plain) << "near a hinted point, radius " << r;
+          near_inside += plain;
+          ++compared;
+        }
+        for (const InsideHint& wrong : {InsideHint{h->span, 1.0 - h->tau}, InsideHint{h->span, 0.0},
+                                        InsideHint{sv.spanCount(), 0.5}, InsideHint{h->span, -0.5}}) {
+          const V q = x + size * 1e-3 * V(uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1));
+          ASSERT_EQ(sv.contains(q, wrong), sv.contains(q)) << "hint " << wrong.span << ", " << wrong.tau;
+        }
+      }
+    }
+  std::printf("[ info     ] %d hinted points, %d of %d nearby points inside\n", hinted, near_inside, compared);
+  EXPECT_GT(hinted, 200);
+  EXPECT_GT(near_inside, compared / 4);
+  EXPECT_LT(near_inside, compared);
+}
+
 // ---- bad input ---------------------------------------------------------------------------------
 
 TEST(Inside, BadInput) {
@@ -382,6 +473,8 @@ TEST(Inside, BadInput) {
     EXPECT_TRUE(throwsError([&] { (void)sv.contains(x); }, ErrorCode::NonFinite, "NaN or infinite"));
     EXPECT_TRUE(throwsError([&] { (void)sv.query(x); }, ErrorCode::NonFinite, "NaN or infinite"));
     EXPECT_TRUE(throwsError([&] { (void)sv.containsAtStart(x); }, ErrorCode::NonFinite, "NaN or infinite"));
+    EXPECT_TRUE(throwsError([&] { (void)sv.hint(x); }, ErrorCode::NonFinite, "NaN or infinite"));
+    EXPECT_TRUE(throwsError([&] { (void)sv.contains(x, InsideHint{0, 0.5}); }, ErrorCode::NonFinite, "NaN or infinite"));
     EXPECT_TRUE(throwsError([&] { (void)sweptContains(body, span, x); }, ErrorCode::NonFinite, "NaN or infinite"));
   }
   for (const double tol : {0.0, -1e-3, nan, inf}) {

@@ -96,6 +96,13 @@ struct InsideResult {
   int face = -1;
 };
 
+/// A time at which a point lies strictly inside the posed body (SweptVolume::hint), for
+/// asking about many points near it (SweptVolume::contains with a hint).
+struct InsideHint {
+  std::size_t span = 0;  ///< the span
+  double tau = 0.0;      ///< span time τ in [0, 1]
+};
+
 /// The volume swept by a body along a motion, prepared for many inside queries.
 ///
 /// Holds copies of what it needs (the body's mesh and a box hierarchy of its faces, about 100
@@ -123,6 +130,23 @@ class SweptVolume {
   /// Whether x is inside, and the earliest time at which the body reaches it.
   /// @throws Error(NonFinite) when x has a NaN or infinite coordinate.
   InsideResult query(const Eigen::Vector3d& x) const;
+  /// A time at which x lies strictly inside the posed body, or none: after query(x).time, the
+  /// first such time in steps of 2^-16 of the span (at most 256 steps), then steps doubling
+  /// from it while x stays inside (up to 256 steps away), and the middle of that run. Each is a
+  /// static test: x in body coordinates, farther than its rounding from every face, inside by
+  /// ray parity. For a caller about to ask about many points near x (the sweep's depth
+  /// certificates). Depends on x alone, not on threads or earlier queries.
+  /// @throws Error(NonFinite) when x has a NaN or infinite coordinate.
+  std::optional<InsideHint> hint(const Eigen::Vector3d& x) const;
+  /// contains(y), settled by one static test when y lies strictly inside the body posed at the
+  /// hint's time (a point inside a posed body is in the interior of the swept volume, which
+  /// contains() reports inside), else by contains(y). The answers are those of contains(y),
+  /// except where contains() misses an interior point (the rounding caveat of the file
+  /// comment), which this reports inside. (On bunny00 along data/motions/screw.json, a count
+  /// with a hint at the middle of the whole run: 97.5% of the 1.67M inside answers of the kept
+  /// walls' depth certificates came from the static test.)
+  /// @throws Error(NonFinite) when y has a NaN or infinite coordinate.
+  bool contains(const Eigen::Vector3d& y, const InsideHint& hint) const;
   /// Whether x is inside the body (or within δ of its surface) at the start of the motion.
   /// @throws Error(NonFinite) when x is not finite.
   bool containsAtStart(const Eigen::Vector3d& x) const;
