@@ -4545,7 +4545,7 @@ struct DepthBound {
   std::vector<int> beyond;  // the vertices whose bound exceeds ε, in increasing order
 };
 DepthBound surfaceDepths(const std::vector<Vec>& V, const std::vector<Tri>& T, const std::vector<int>& which, double eps,
-                         double delta, const SweptVolume& swept, int threads) {
+                         const SweptVolume& swept, int threads) {
   DepthBound out;
   if (which.empty()) return out;
   std::vector<int> slot(V.size(), -1);
@@ -4596,7 +4596,7 @@ DepthBound surfaceDepths(const std::vector<Vec>& V, const std::vector<Tri>& T, c
       if (++calls == kHintAfter) hint = swept.hint(x);
       return hint ? swept.contains(q, *hint) : swept.contains(q);
     };
-    bound[i] = detail::depthBound(x, eps, delta, inside, p);
+    bound[i] = detail::depthBound(x, eps, swept.tolerance(), inside, p);
   });
   for (std::size_t i = 0; i < which.size(); ++i) {
     out.worst = std::max(out.worst, bound[i]);
@@ -4636,12 +4636,11 @@ DepthBound centroidDepths(const std::vector<Vec>& V, const std::vector<Tri>& T, 
 Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const SweptVolume& swept,
                     const SweepOptions& options, std::chrono::steady_clock::time_point t_start, double t_cycle) {
   const std::function<bool(const Vec&)> inside_swept = [&swept](const Vec& x) { return swept.contains(x); };
-  const double inside_tolerance = swept.tolerance();
   Envelope env;
   env.tolerance = eps;
   env.spans = spans;
   // (the certified depth bounds of fillings, dent triangles, kept walls and cavities)
-  const DepthTest certify{inside_swept, eps, inside_tolerance};
+  const DepthTest certify{inside_swept, eps, swept.tolerance()};
   env.cycle_triangles = cycle.triangles.size();
   env.timings.cycle = t_cycle;
 
@@ -4907,7 +4906,7 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
   {  // how deep the output vertices of the kept walls, and their faces' centroids, lie
     const std::vector<int> on_kept = verticesNear(env.vertices, kept_points, kKeptMatch * eps);
     const DepthBound depth =
-        surfaceDepths(env.vertices, env.triangles, on_kept, eps, inside_tolerance, swept, options.threads);
+        surfaceDepths(env.vertices, env.triangles, on_kept, eps, swept, options.threads);
     const DepthBound faces = centroidDepths(env.vertices, env.triangles, on_kept, certify, options.threads);
     env.kept_wall_vertices = on_kept.size();
     env.kept_wall_depth_bound = std::max(depth.worst, faces.worst);
@@ -4939,7 +4938,7 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, std::size_t spans, const Sw
       for (std::size_t v = 0; v < inner.size(); ++v)
         if (inner[v]) which.push_back(static_cast<int>(v));
       const DepthBound depth =
-          surfaceDepths(env.vertices, env.triangles, which, eps, inside_tolerance, swept, options.threads);
+          surfaceDepths(env.vertices, env.triangles, which, eps, swept, options.threads);
       const DepthBound faces = centroidDepths(env.vertices, env.triangles, which, certify, options.threads);
       env.cavity_vertices = which.size();
       env.cavity_depth_bound = std::max(depth.worst, faces.worst);
