@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 #include <random>
 #include <utility>
 #include <vector>
@@ -134,6 +135,49 @@ TEST(FaceTree, PairsFromEachPlaceMatchBruteForceOnce) {
         EXPECT_TRUE(std::binary_search(got.begin(), got.end(), f)) << "face " << f << " touched along axis " << k;
       }
     }
+  }
+}
+
+// A tree built with keep_boxes walks four boxes at a time (FaceTree::Wide) in overlappingUntil:
+// the faces must be those of the binary walk (overlapping), in the same order, and stopping
+// after the k-th must give the first k. Also a query box with a NaN corner, which meets
+// everything in both walks (no comparison with NaN is true), and one that meets nothing.
+TEST(FaceTree, FourWideWalkGivesTheBinaryWalksFacesInOrder) {
+  for (const std::size_t n : {1u, 3u, 5u, 9u, 17u, 1000u, 70001u}) {
+    const Soup s = randomSoup(n, 501 + n);
+    FaceTree plain, wide;
+    plain.build(s.V, s.F, 2);
+    wide.build(s.V, s.F, 2, true);
+    std::mt19937_64 rng(5 + n);
+    std::uniform_real_distribution<double> u(-0.05, 1.05), w(0.0, 0.3);
+    auto until = [&](const FaceTree& tree, const Vec& lo, const Vec& hi, std::size_t k) {
+      std::vector<int> out;
+      tree.overlappingUntil(lo, hi, [&](int f) {
+        out.push_back(f);
+        return out.size() < k;
+      });
+      return out;
+    };
+    auto all = [&](const FaceTree& tree, const Vec& lo, const Vec& hi) {
+      std::vector<int> out;
+      tree.overlapping(lo, hi, [&](int f) { out.push_back(f); });
+      return out;
+    };
+    for (int q = 0; q < 300; ++q) {
+      const Vec lo(u(rng), u(rng), u(rng));
+      const Vec hi = lo + Vec(w(rng), w(rng), w(rng));
+      const std::vector<int> expect = all(plain, lo, hi);
+      ASSERT_EQ(all(wide, lo, hi), expect) << n << " faces, query " << q;
+      ASSERT_EQ(until(wide, lo, hi, s.F.size() + 1), expect) << n << " faces, query " << q;
+      const std::size_t k = 1 + static_cast<std::size_t>(q) % 9;
+      const std::vector<int> first(expect.begin(), expect.begin() + static_cast<std::ptrdiff_t>(std::min(k, expect.size())));
+      ASSERT_EQ(until(wide, lo, hi, k), first) << n << " faces, query " << q << ", stop after " << k;
+      ASSERT_EQ(until(plain, lo, hi, k), first) << n << " faces, query " << q << ", binary, stop after " << k;
+    }
+    const Vec nan = Vec::Constant(std::numeric_limits<double>::quiet_NaN());
+    EXPECT_EQ(until(wide, nan, nan, s.F.size() + 1), all(plain, nan, nan)) << n << " faces, NaN query";
+    EXPECT_EQ(all(plain, nan, nan).size(), s.F.size()) << n << " faces, NaN query";
+    EXPECT_TRUE(until(wide, Vec::Constant(3), Vec::Constant(4), s.F.size() + 1).empty()) << n << " faces";
   }
 }
 
