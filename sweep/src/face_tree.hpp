@@ -257,9 +257,8 @@ class FaceTree {
   };
   static constexpr int kEmptySlot = std::numeric_limits<int>::min();
 
+  // (build() calls it with the binary tree built, never empty, and wide_ cleared)
   void buildWide() {
-    wide_.clear();
-    if (nodes_.empty()) return;
     if (nodes_[0].left < 0) {  // (a single leaf)
       wide_.push_back(emptyWide());
       setSlot(wide_[0], 0, 0);
