@@ -3622,6 +3622,15 @@ struct MouthMemory {
     std::vector<Tri> fill;
   };
   std::unordered_map<std::uint64_t, Clear> clear;
+  // CGAL's triangulations of the loops of every round so far (each face as three places in its
+  // loop; none when CGAL gave no triangulation), by a hash of the loop. CGAL's search depends
+  // only on the loop's points in their order, and a point's number fixes its coordinates, so a
+  // loop traced again in a later round, most of them, is not searched again.
+  struct Filled {
+    std::vector<int> loop;
+    std::vector<std::array<int, 3>> patch;
+  };
+  std::unordered_map<std::uint64_t, Filled> filled;
   static std::uint64_t hash(const std::vector<int>& loop) {
     std::uint64_t h = loop.size();
     for (const int v : loop) h = mixBits(h ^ static_cast<std::uint32_t>(v)) + 0x9E3779B97F4A7C15ull;
@@ -3813,17 +3822,39 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
   // (i, j, k), i < j < k, run along the loop; the faces next to the loop run along it too, so
   // the filling faces are reversed.
   std::vector<std::vector<Tri>> fill(loops.size());
+  // (Mouth memory: the loops and their fillings in arrangement numbers)
+  auto originOf = [&](const Tri& t) {
+    return Tri{{origin[static_cast<std::size_t>(t[0])], origin[static_cast<std::size_t>(t[1])], origin[static_cast<std::size_t>(t[2])]}};
+  };
+  std::vector<std::vector<int>> loop_points(loops.size());
+  std::vector<std::uint64_t> loop_hash(loops.size());
+  for (std::size_t l = 0; l < loops.size(); ++l) {
+    for (const int v : loops[l]) loop_points[l].push_back(origin[static_cast<std::size_t>(v)]);
+    loop_hash[l] = MouthMemory::hash(loop_points[l]);
+  }
+  // CGAL's triangulation of loop l, as places in the loop (taken from the memory when the loop
+  // was filled in an earlier round; `searched` flags the loops filled anew).
+  std::vector<std::vector<std::array<int, 3>>> patches(loops.size());
+  std::vector<char> searched(loops.size(), 0);
   auto fillLoop = [&](std::size_t l) {
     const std::vector<int>& loop = loops[l];
     fill[l].clear();
     if (loop.size() < 3) return;
-    std::vector<IPoint> pts;
-    for (int v : loop) pts.emplace_back(V[v].x(), V[v].y(), V[v].z());
-    std::vector<CGAL::Triple<int, int, int>> patch;
-    CGAL::Polygon_mesh_processing::triangulate_hole_polyline(pts, std::back_inserter(patch),
-                                                             CGAL::parameters::use_delaunay_triangulation(false));
-    if (patch.size() != loop.size() - 2) return;
-    for (const auto& x : patch) fill[l].push_back({{loop[x.first], loop[x.third], loop[x.second]}});
+    std::vector<std::array<int, 3>>& patch = patches[l];
+    const auto known = memory.filled.find(loop_hash[l]);
+    if (known != memory.filled.end() && known->second.loop == loop_points[l]) {
+      patch = known->second.patch;
+    } else {
+      std::vector<IPoint> pts;
+      for (int v : loop) pts.emplace_back(V[v].x(), V[v].y(), V[v].z());
+      std::vector<CGAL::Triple<int, int, int>> found;
+      CGAL::Polygon_mesh_processing::triangulate_hole_polyline(pts, std::back_inserter(found),
+                                                               CGAL::parameters::use_delaunay_triangulation(false));
+      if (found.size() == loop.size() - 2)
+        for (const auto& x : found) patch.push_back({{x.first, x.third, x.second}});
+      searched[l] = 1;
+    }
+    for (const auto& x : patch) fill[l].push_back({{loop[x[0]], loop[x[1]], loop[x[2]]}});
   };
   // (room for the fans' points, so that appending them moves no point the tree refers to)
   const std::size_t old_points = V.size();
@@ -4120,16 +4151,8 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
   parallelFor(0, loops.size(), threads, [&](std::size_t l) {
     if (loops[l].size() <= kCubicHoleFilling) fillLoop(l);
   });
-  // (Mouth memory: the loops and their fillings in arrangement numbers)
-  auto originOf = [&](const Tri& t) {
-    return Tri{{origin[static_cast<std::size_t>(t[0])], origin[static_cast<std::size_t>(t[1])], origin[static_cast<std::size_t>(t[2])]}};
-  };
-  std::vector<std::vector<int>> loop_points(loops.size());
-  std::vector<std::uint64_t> loop_hash(loops.size());
-  for (std::size_t l = 0; l < loops.size(); ++l) {
-    for (const int v : loops[l]) loop_points[l].push_back(origin[static_cast<std::size_t>(v)]);
-    loop_hash[l] = MouthMemory::hash(loop_points[l]);
-  }
+  for (std::size_t l = 0; l < loops.size(); ++l)
+    if (searched[l]) memory.filled[loop_hash[l]] = {loop_points[l], std::move(patches[l])};  // (a loop of the same hash is forgotten)
   bool remembered = false;
   for (std::size_t l = 0; l < loops.size() && !memory.clear.empty(); ++l) {
     const auto it = memory.clear.find(loop_hash[l]);
