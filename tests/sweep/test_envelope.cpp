@@ -715,12 +715,12 @@ SampleOnScrew cgalSampleOnTheBenchmarkScrew(const std::string& name) {
 // whose mouths take several rounds to close. The rounds take CGAL's fillings of the loops they
 // traced before from the mouth memory (MouthMemory::filled) instead of searching again, which
 // must leave the envelope as it was: the face count, vertex count and volume below were recorded
-// before that reuse came in (c09830a). A reused filling that differed would not show elsewhere:
-// the rounds' own checks refill a bad one, and every other test passes with the reused fillings
-// reversed, while this envelope's volume then moves by 5.5e-13 of itself (the CLI's copy of
-// the sphere, at its own size, gets 42 faces more). The tolerance, 1e-14 of the volume, is for
-// the rounding of the volume's sum alone; the sweep gives the same envelope on any number of
-// threads. (An intended change of the envelope records these again.)
+// with the code before that reuse (c09830a). A reused filling that differed would not show
+// elsewhere: the rounds' own checks refill a bad one, and the other envelope tests all pass with
+// the reused fillings reversed, while this envelope's volume then moves by 5.5e-13 of itself
+// (the CLI's copy of the sphere, at its own size, gets 42 faces more). The tolerance, 1e-14 of
+// the volume, is for the rounding of the volume's sum alone; the sweep gives the same envelope
+// on any number of threads. (An intended change of the envelope records these again.)
 TEST(Envelope, SphereOnTheGrowingScrewIsTheRecordedEnvelope) {
 #ifndef STEADY_CGAL_MESHES
   GTEST_SKIP() << "CGAL's sample meshes (Debian libcgal-demo) were not found when the build was configured";
