@@ -3832,29 +3832,28 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
     for (const int v : loops[l]) loop_points[l].push_back(origin[static_cast<std::size_t>(v)]);
     loop_hash[l] = MouthMemory::hash(loop_points[l]);
   }
-  // CGAL's triangulation of loop l, as places in the loop (taken from the memory when the loop
-  // was filled in an earlier round; `searched` flags the loops filled anew).
+  // CGAL's triangulations of the loops searched anew in this round, as places in the loop (the
+  // others are taken from the memory); `searched` flags them.
   std::vector<std::vector<std::array<int, 3>>> patches(loops.size());
   std::vector<char> searched(loops.size(), 0);
   auto fillLoop = [&](std::size_t l) {
     const std::vector<int>& loop = loops[l];
     fill[l].clear();
     if (loop.size() < 3) return;
-    std::vector<std::array<int, 3>>& patch = patches[l];
     const auto known = memory.filled.find(loop_hash[l]);
-    if (known != memory.filled.end() && known->second.loop == loop_points[l]) {
-      patch = known->second.patch;
-    } else {
+    const bool reused = known != memory.filled.end() && known->second.loop == loop_points[l];
+    if (!reused) {
       std::vector<IPoint> pts;
       for (int v : loop) pts.emplace_back(V[v].x(), V[v].y(), V[v].z());
       std::vector<CGAL::Triple<int, int, int>> found;
       CGAL::Polygon_mesh_processing::triangulate_hole_polyline(pts, std::back_inserter(found),
                                                                CGAL::parameters::use_delaunay_triangulation(false));
       if (found.size() == loop.size() - 2)
-        for (const auto& x : found) patch.push_back({{x.first, x.third, x.second}});
+        for (const auto& x : found) patches[l].push_back({{x.first, x.third, x.second}});
       searched[l] = 1;
     }
-    for (const auto& x : patch) fill[l].push_back({{loop[x[0]], loop[x[1]], loop[x[2]]}});
+    for (const auto& x : reused ? known->second.patch : patches[l])
+      fill[l].push_back({{loop[x[0]], loop[x[1]], loop[x[2]]}});
   };
   // (room for the fans' points, so that appending them moves no point the tree refers to)
   const std::size_t old_points = V.size();
@@ -4554,7 +4553,7 @@ std::vector<int> verticesNear(const std::vector<Vec>& V, const std::vector<Vec>&
 
 // Inside tests of one vertex's depth bound before the rest are asked with a hint (see
 // surfaceDepths): most vertices are settled by their first few probes, and a hint costs a
-// query and about ten static tests (at most 265, see SweptVolume::hint).
+// query and about ten static tests (at most 266, see SweptVolume::hint).
 constexpr int kHintAfter = 64;
 
 // The certified depth bounds of the vertices `which` of the surface (V, T) (see
