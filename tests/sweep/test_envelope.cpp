@@ -907,6 +907,49 @@ TEST(Envelope, KeptWallsBesideThinOutsideLayersAreCertified) {
               env.kept_wall_faces_uncertified.size(), listed.deep.size());
 }
 
+// The stress campaign's UV sphere along a screw (case 28400, tolerance 1e-3): a crack mouth
+// that CGAL's search, the refill and the fan all leave open, so its crack walls were kept (21
+// faces, 23 vertices, certified). The strip between two of its sharpest points (Strips in
+// sweep/src/trim.cpp) passes the checks and the depth probes, and no wall is kept.
+TEST(Envelope, CrackMouthIsClosedByAStrip) {
+  const Mesh m = uvSphere(6, 10, 0.6);
+  std::mt19937_64 motion_rng(631002405ull);  // (as the campaign draws it)
+  const Motion3 motion = randomMotion(MotionKind::Screw, motion_rng);
+  const Envelope env = sweep(m, motion, 1e-3);
+  EXPECT_EQ(env.crack_faces_kept, 0u);
+  EXPECT_EQ(env.buried_patches_kept, 0u);
+  EXPECT_EQ(env.deep_fillings_taken, 0u);
+  EXPECT_EQ(env.check.shells, 1);
+  std::mt19937_64 rng(28400);
+  CheckOptions co;
+  co.expected_euler = 99;  // (as in the campaign: a random screw may close a handle)
+  checkEnvelope(m, motion, env, epsOf(m), rng, "UV sphere screw, crack mouth closed by a strip", co);
+}
+
+// The stress campaign's torus along a screw (case 25530, tolerance 1e-3): a crack opens onto
+// the envelope at slits, mouth loops of 43 to 47 points about 1,100 eps long, that neither
+// CGAL's search nor the fan (its apex lies too far from so long a loop) fills, and that the
+// refill does not take (over 32 points). Their strips pass the checks but are probed 2 to 4 eps
+// deep (at a wide end of the slit) and are refused, as a strip still deep always is. Before
+// the strips those loops had no filling, the rounds that failed there ran no depth check, and
+// they ended by taking a filling elsewhere with a probe 4 eps deep
+// (Envelope::deep_fillings_taken 1); now the depth checks of those rounds refuse it early and
+// the rounds end with walls kept there instead, every kept-wall vertex and face certified.
+TEST(Envelope, DeepStripIsRefused) {
+  const Mesh m = torus(0.7, 0.25, 12, 6);
+  std::mt19937_64 motion_rng(567003223ull);  // (as the campaign draws it)
+  const Motion3 motion = randomMotion(MotionKind::Screw, motion_rng);
+  const Envelope env = sweep(m, motion, 1e-3);
+  EXPECT_EQ(env.deep_fillings_taken, 0u);
+  EXPECT_LE(env.filling_depth_bound, epsOf(m));
+  EXPECT_TRUE(env.kept_wall_uncertified.empty()) << env.kept_wall_uncertified.size() << " kept-wall vertices not certified";
+  EXPECT_TRUE(env.kept_wall_faces_uncertified.empty()) << env.kept_wall_faces_uncertified.size() << " kept-wall faces not certified";
+  std::mt19937_64 rng(25530);
+  CheckOptions co;
+  co.expected_euler = 99;  // (a screw of a torus may close a handle)
+  checkEnvelope(m, motion, env, epsOf(m), rng, "torus screw, slit mouth", co);
+}
+
 // The stress campaign's torus on a polySAM of four poses (case 12979, tolerance 2e-3): walls
 // are kept (293 crack faces) at mouths that no filling closes, and one of their vertices lies
 // about 2 eps deep in the swept volume, with no point outside within T of it. That is an error
