@@ -4487,8 +4487,9 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
     }
   }
   // Strips (see kStripPoints): the loops still bad are filled as slits, by a strip between the
-  // two chains from one sharp point of the loop to another. A strip that the check finds bad,
-  // or that makes another loop bad, gives its loop back the filling it had.
+  // two chains from one sharp point of the loop to another. A strip that the check finds bad
+  // gives its loop back the filling it had, and every strip does when another loop turned bad
+  // with them (their hits too, so that the rims are as without the strips).
   std::vector<char> stripped(loops.size(), 0);  // (the loops that keep their strip)
   std::vector<std::vector<Tri>> strip(loops.size());
   auto strippable = [&](std::size_t l) { return bad[l] && loops[l].size() >= 6 && loops[l].size() <= kStripPoints; };
