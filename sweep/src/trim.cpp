@@ -4204,8 +4204,9 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
         for (std::size_t i = 0; i < na; ++i)
           for (std::size_t j = 0; j < nb; ++j) {
             const std::size_t k = i * nb + j;
-            if (i > 0 && cost[k - nb] + diag(i, j) < cost[k]) cost[k] = cost[k - nb] + diag(i, j), from[k] = 0;
-            if (j > 0 && cost[k - 1] + diag(i, j) < cost[k]) cost[k] = cost[k - 1] + diag(i, j), from[k] = 1;
+            const double d = diag(i, j);
+            if (i > 0 && cost[k - nb] + d < cost[k]) cost[k] = cost[k - nb] + d, from[k] = 0;
+            if (j > 0 && cost[k - 1] + d < cost[k]) cost[k] = cost[k - 1] + d, from[k] = 1;
           }
         // (the triangles in loop places, then oriented as the other fillings: places p < q < r
         // give the face (p, r, q))
