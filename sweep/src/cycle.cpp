@@ -31,6 +31,16 @@
 // into a strip (tessellation.hpp gives the time grid and the pieces), and every point where a
 // strip meets a cap (its ends and subdivision points at τ = 0 and 1) is also a vertex of the
 // cap polygons, which are cut exactly along the chords and fanned into triangles.
+//
+// Concave edges. Where the body is concave along a boundary edge of Front, the strip the edge
+// sweeps lies inside the swept volume: near the edge the body is the union of its two faces'
+// inner half-spaces, one face moving out and the other in, so every point near the strip lies
+// in the body posed a little earlier or later. Such strips are still part of Q and are cut
+// like the others (about half of the crossing pairs on the elephant and bunny00): their
+// tessellated copies stray across other sheets by up to the tessellation's error where their
+// room inside is thinner (near τ = 0 and 1, and where the faces nearly graze), and when they
+// were left uncut, counted only by the rays, the pockets so made reached the other sheets'
+// labels and the envelope came out open (docs/history.md, twenty-fourth round).
 #include "cycle.hpp"
 
 #include "tessellation.hpp"
