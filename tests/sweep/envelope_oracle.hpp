@@ -466,11 +466,13 @@ inline AcrossCheck checkAcrossInBox(const steady::sweep::Envelope& env, const Mo
   return checkAcross(env, mb, which);
 }
 
-// The envelope of `mesh` along `motion` with default options (plus the given tolerance), and
-// its expected ε.
-inline steady::sweep::Envelope sweep(const Mesh& mesh, const steady::Motion3& motion, double relative = 1e-3) {
+// The envelope of `mesh` along `motion` with default options (plus the given tolerance, and
+// the given re-sweeps when not negative), and its expected ε.
+inline steady::sweep::Envelope sweep(const Mesh& mesh, const steady::Motion3& motion, double relative = 1e-3,
+                                     int refinements = -1) {
   steady::sweep::SweepOptions o;
   o.relative_tolerance = relative;
+  if (refinements >= 0) o.refinements = refinements;
   return steady::sweep::sweptEnvelope(makeBody(mesh), motion, o);
 }
 inline double epsOf(const Mesh& mesh, double relative = 1e-3) { return relative * makeBody(mesh).box().diagonal(); }

@@ -853,6 +853,42 @@ TEST(Envelope, MouthWhoseFillingsAllCrossItsRimCloses) {
                          "convex affine mouth closed through its rim");
 }
 
+// The torus polySAM of KeptWallsBesideThinOutsideLayersAreCertified (campaign case 604,
+// tolerance 1e-3).
+Motion3 thinLayersMotion() {
+  Eigen::Matrix<double, 3, 4> p0, p1, p2;
+  p0 << 0.89070993109068142, -0.0089455110116924332, 0.45448409926990102, 0.19139562122889719,  //
+      0.018014312820796637, 0.99971558865232435, -0.01562774261149643, 0.17863624554840629,      //
+      -0.45421504069111146, 0.022107004280914881, 0.89061775031249835, -0.069249736453529054;
+  p1 << 0.48828179539616368, -0.048032828867323539, 0.87530771844670074, 1.4519383189336805,  //
+      0.28675876951633011, 0.59441105922395321, 0.22521647432941871, 0.56162414623465751,      //
+      -0.50470654882119947, -0.099475694717672702, 0.59842643776913362, -0.48665483745297949;
+  p2 << 1.1331034251949794, 0.33864176084322806, 1.9744249456395175, 4.214478439210767,  //
+      -0.30477399644273451, 0.19725815105764827, -0.75893216506763217, -1.2960883589048533,  //
+      -0.094672181046677795, 0.092283179473092447, 0.59188922233285557, 0.01289957063117611;
+  return Motion3::polySam(
+      std::vector<Affine3>{Affine3::fromMatrix(p0), Affine3::fromMatrix(p1), Affine3::fromMatrix(p2)});
+}
+
+// The torus polySAM of DeepKeptWallsAreReported (campaign case 12979, tolerance 2e-3).
+Motion3 deepKeptWallsMotion() {
+  Eigen::Matrix<double, 3, 4> p0, p1, p2, p3;
+  p0 << 0.40004197984217998, -0.87751908656329924, 0.26443650860095291, 0.37802545371853546,  //
+      0.91348659304215041, 0.35840463022333513, -0.19258339847120517, -0.16645815953199661,     //
+      0.074220338831033517, 0.31860064932700216, 0.94497881857331556, 0.4036169205758674;
+  p1 << -0.29998922705410769, -1.4718117571332081, 0.1072577549260092, -0.2625244491334412,  //
+      1.2849257822373628, 1.0259349864353309, 0.3792886488901881, -1.142455557863391,         //
+      -0.21676484516106295, 0.10593551436022924, 0.72741558331206169, 0.26133742601814319;
+  p2 << -0.0018227476621533456, -2.1888880768876731, 1.0804063052991588, -1.4718061365732902,  //
+      1.2519094590928532, 1.0248645535898033, 0.96013259766894254, -1.9619021841191908,         //
+      -0.3346031928683677, 0.12526206368075149, 0.80557301509665702, 0.11837723806154882;
+  p3 << -0.0018227476621533456, -2.1888880768876731, 1.0804063052991588, -1.5594663586893429,  //
+      1.2519094590928532, 1.0248645535898033, 0.96013259766894254, -2.7550590965818946,         //
+      -0.3346031928683677, 0.12526206368075149, 0.80557301509665702, 0.094062508291527486;
+  return Motion3::polySam(std::vector<Affine3>{Affine3::fromMatrix(p0), Affine3::fromMatrix(p1),
+                                               Affine3::fromMatrix(p2), Affine3::fromMatrix(p3)});
+}
+
 // The stress campaign's torus on a polySAM of three poses (case 604, tolerance 1e-3): slit
 // mouths of about 40 points and hundreds of eps long that no filling closes (their fillings
 // cross faces of the true envelope 6 to 41 eps from the loop: not a rim), so walls are kept
@@ -868,22 +904,13 @@ TEST(Envelope, MouthWhoseFillingsAllCrossItsRimCloses) {
 // The faces at the kept walls are checked too (tenth round): one of them, with an edge 23 eps
 // long, has its centroid deeper than T in the swept volume by the oracle, and the envelope
 // must list it (Envelope::kept_wall_faces_uncertified); every listed face the oracle confirms
-// deep is counted, and the bound then exceeds eps.
+// deep is counted, and the bound then exceeds eps. (The first sweep only: a re-sweep, see
+// SweepOptions::refinements, leaves no such face; DoubtfulEnvelopesAreSweptAgain.)
 TEST(Envelope, KeptWallsBesideThinOutsideLayersAreCertified) {
   const Mesh m = torus(0.7, 0.25, 12, 6);
-  Eigen::Matrix<double, 3, 4> p0, p1, p2;
-  p0 << 0.89070993109068142, -0.0089455110116924332, 0.45448409926990102, 0.19139562122889719,  //
-      0.018014312820796637, 0.99971558865232435, -0.01562774261149643, 0.17863624554840629,      //
-      -0.45421504069111146, 0.022107004280914881, 0.89061775031249835, -0.069249736453529054;
-  p1 << 0.48828179539616368, -0.048032828867323539, 0.87530771844670074, 1.4519383189336805,  //
-      0.28675876951633011, 0.59441105922395321, 0.22521647432941871, 0.56162414623465751,      //
-      -0.50470654882119947, -0.099475694717672702, 0.59842643776913362, -0.48665483745297949;
-  p2 << 1.1331034251949794, 0.33864176084322806, 1.9744249456395175, 4.214478439210767,  //
-      -0.30477399644273451, 0.19725815105764827, -0.75893216506763217, -1.2960883589048533,  //
-      -0.094672181046677795, 0.092283179473092447, 0.59188922233285557, 0.01289957063117611;
-  const Motion3 motion = Motion3::polySam(
-      std::vector<Affine3>{Affine3::fromMatrix(p0), Affine3::fromMatrix(p1), Affine3::fromMatrix(p2)});
-  const Envelope env = sweep(m, motion, 1e-3);
+  const Motion3 motion = thinLayersMotion();
+  const Envelope env = sweep(m, motion, 1e-3, 0);
+  EXPECT_EQ(env.resweeps, 0u);
   expectOneEmbeddedShell(env);
   EXPECT_GT(env.kept_wall_vertices, 0u) << "no wall is kept here any more: pick another case";
   EXPECT_TRUE(env.kept_wall_uncertified.empty())
@@ -957,25 +984,12 @@ TEST(Envelope, DeepStripIsRefused) {
 // vertex the certified oracle finds without an outside point within T, in a box of 40 eps about
 // that vertex, is listed as a kept-wall vertex not certified within eps, and the bound exceeds
 // eps. (Once no wall there is kept so deep, the first expectation fails: pick another such
-// case from the campaign.)
+// case from the campaign.) The first sweep only: a re-sweep leaves no wall there so deep
+// (DoubtfulEnvelopesAreSweptAgain).
 TEST(Envelope, DeepKeptWallsAreReported) {
   const Mesh m = torus(0.7, 0.25, 12, 6);
-  Eigen::Matrix<double, 3, 4> p0, p1, p2, p3;
-  p0 << 0.40004197984217998, -0.87751908656329924, 0.26443650860095291, 0.37802545371853546,  //
-      0.91348659304215041, 0.35840463022333513, -0.19258339847120517, -0.16645815953199661,     //
-      0.074220338831033517, 0.31860064932700216, 0.94497881857331556, 0.4036169205758674;
-  p1 << -0.29998922705410769, -1.4718117571332081, 0.1072577549260092, -0.2625244491334412,  //
-      1.2849257822373628, 1.0259349864353309, 0.3792886488901881, -1.142455557863391,         //
-      -0.21676484516106295, 0.10593551436022924, 0.72741558331206169, 0.26133742601814319;
-  p2 << -0.0018227476621533456, -2.1888880768876731, 1.0804063052991588, -1.4718061365732902,  //
-      1.2519094590928532, 1.0248645535898033, 0.96013259766894254, -1.9619021841191908,         //
-      -0.3346031928683677, 0.12526206368075149, 0.80557301509665702, 0.11837723806154882;
-  p3 << -0.0018227476621533456, -2.1888880768876731, 1.0804063052991588, -1.5594663586893429,  //
-      1.2519094590928532, 1.0248645535898033, 0.96013259766894254, -2.7550590965818946,         //
-      -0.3346031928683677, 0.12526206368075149, 0.80557301509665702, 0.094062508291527486;
-  const Motion3 motion = Motion3::polySam(std::vector<Affine3>{Affine3::fromMatrix(p0), Affine3::fromMatrix(p1),
-                                                               Affine3::fromMatrix(p2), Affine3::fromMatrix(p3)});
-  const Envelope env = sweep(m, motion, 2e-3);
+  const Motion3 motion = deepKeptWallsMotion();
+  const Envelope env = sweep(m, motion, 2e-3, 0);
   expectOneEmbeddedShell(env);
   const V center(-0.3464770621714698, -0.33437785487241933, 0.2989461426866816);
   const V reach = V::Constant(40 * env.tolerance);
@@ -993,6 +1007,58 @@ TEST(Envelope, DeepKeptWallsAreReported) {
               "%d vertices checked, %d inside the swept volume, %zu without an outside point within T\n",
               env.kept_wall_vertices, env.kept_wall_uncertified.size(), env.kept_wall_depth_bound / env.tolerance,
               a.checked, a.inside, a.deep.size());
+}
+
+// SweepOptions::refinements: the two torus polySAMs above leave doubt on their first sweep
+// (kept-wall vertices or face centroids not certified within eps). By default they are swept
+// again with a finer tessellation, and the envelope returned is certified throughout and
+// passes the campaign's oracle (sampled containment, every vertex on the true boundary, face
+// sides). With refinements = 0 the first sweep comes back as it was.
+TEST(Envelope, DoubtfulEnvelopesAreSweptAgain) {
+  const Mesh m = torus(0.7, 0.25, 12, 6);
+  const struct {
+    Motion3 motion;
+    double rel;
+    const char* name;
+    std::uint64_t seed;
+  } cases[] = {{thinLayersMotion(), 1e-3, "torus polySAM, thin outside layers", 604},
+               {deepKeptWallsMotion(), 2e-3, "torus polySAM, deep kept walls", 12979}};
+  for (const auto& c : cases) {
+    const Envelope first = sweep(m, c.motion, c.rel, 0);
+    EXPECT_EQ(first.resweeps, 0u) << c.name;
+    EXPECT_DOUBLE_EQ(first.tessellation_tolerance, 0.5 * first.tolerance) << c.name;
+    EXPECT_FALSE(first.kept_wall_uncertified.empty() && first.kept_wall_faces_uncertified.empty())
+        << c.name << ": the first sweep leaves no doubt any more: pick another case";
+    const Envelope env = sweep(m, c.motion, c.rel);
+    EXPECT_GE(env.resweeps, 1u) << c.name;
+    EXPECT_LT(env.tessellation_tolerance, first.tessellation_tolerance) << c.name;
+    EXPECT_TRUE(env.kept_wall_uncertified.empty()) << c.name << ": " << env.kept_wall_uncertified.size();
+    EXPECT_TRUE(env.kept_wall_faces_uncertified.empty()) << c.name << ": " << env.kept_wall_faces_uncertified.size();
+    EXPECT_TRUE(env.cavity_uncertified.empty()) << c.name;
+    EXPECT_TRUE(env.cavity_faces_uncertified.empty()) << c.name;
+    EXPECT_LE(env.kept_wall_depth_bound, env.tolerance) << c.name;
+    std::mt19937_64 rng(c.seed);
+    CheckOptions co;
+    co.expected_euler = 99;  // (a polySAM of a torus may close its handle)
+    checkEnvelope(m, c.motion, env, epsOf(m, c.rel), rng, c.name, co);
+    std::printf("[ info     ] %s: first sweep %zu + %zu uncertified; %zu re-sweep(s), eps_t = eps / %.0f, %zu kept-wall "
+                "vertices\n",
+                c.name, first.kept_wall_uncertified.size(), first.kept_wall_faces_uncertified.size(), env.resweeps,
+                env.tolerance / env.tessellation_tolerance, env.kept_wall_vertices);
+  }
+}
+
+// An envelope without doubt is not swept again; a negative refinements is refused.
+TEST(Envelope, CertifiedEnvelopeIsNotSweptAgain) {
+  const Mesh m = box(V(0, 0, 0), V(1, 1, 1));
+  const Motion3 motion = single(Affine3(), Affine3::translation(V(2, 0.5, 0.25)) * Affine3::rotation(V(0, 0, 1), 0.5));
+  const Envelope env = sweep(m, motion);
+  EXPECT_EQ(env.resweeps, 0u);
+  EXPECT_DOUBLE_EQ(env.tessellation_tolerance, 0.5 * env.tolerance);
+  EXPECT_GE(env.timings.total, env.timings.cycle + env.timings.intersect + env.timings.label + env.timings.output);
+  SweepOptions bad;
+  bad.refinements = -1;
+  EXPECT_TRUE(throwsError([&] { sweptEnvelope(makeBody(m), motion, bad); }, ErrorCode::InvalidArgument, "refinements"));
 }
 
 // The stress campaign's CGAL sphere on a polySAM of three spans (case 2959, tolerance 2e-3): a
@@ -1200,8 +1266,9 @@ TEST(Envelope, FillingsThatCutIntoTheSweptVolumeAreRejected) {
 // check of its face interiors (checkFaceSides, every face, seeded). A face that fails it must
 // be reported by the envelope: a filling taken with a probe deeper than eps
 // (Envelope::deep_fillings_taken), whose bound covers the failure.
-SideCheck sweepAndCheckFaceSides(const Mesh& m, const Motion3& motion, double rel, std::uint64_t seed, Envelope& env) {
-  env = sweep(m, motion, rel);
+SideCheck sweepAndCheckFaceSides(const Mesh& m, const Motion3& motion, double rel, std::uint64_t seed, Envelope& env,
+                                 int refinements = -1) {
+  env = sweep(m, motion, rel, refinements);
   expectOneEmbeddedShell(env);
   std::mt19937_64 rng(seed);
   ::testing::TestPartResultArray failures;
@@ -1369,7 +1436,8 @@ TEST(Envelope, KeptWallFacesOffTheTrueBoundaryAreListed) {
        -0.7385712642781836, -0.09195245060572935},
   });
   Envelope env;
-  const SideCheck sides = sweepAndCheckFaceSides(m, motion, 1e-3, 20374, env);
+  // (the first sweep only: a re-sweep leaves no such face)
+  const SideCheck sides = sweepAndCheckFaceSides(m, motion, 1e-3, 20374, env, 0);
   EXPECT_GE(sides.off_faces.size(), 1u) << "no face off the true boundary here any more: pick another case";
   EXPECT_GT(env.kept_wall_depth_bound, env.tolerance);
   EXPECT_TRUE(env.kept_wall_uncertified.empty());
