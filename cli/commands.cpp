@@ -832,6 +832,7 @@ SweepOutput sweepCommand(const SweepRequest& request) {
   options.relative_tolerance = relative;
   options.check = request.check;
   options.threads = request.threads;
+  options.refinements = request.refinements;
   ProgressBar bar(request.progress, start);
   options.progress = [&bar](const steady::sweep::SweepProgress& p) { bar.update(p); };
   const steady::sweep::Envelope envelope =
@@ -848,8 +849,10 @@ SweepOutput sweepCommand(const SweepRequest& request) {
   Json tolerance = Json::object();
   tolerance["absolute"] = outputNumber(envelope.tolerance);
   tolerance["relative"] = outputNumber(relative);
+  tolerance["tessellation"] = outputNumber(envelope.tessellation_tolerance);
   tolerance["body_diagonal"] = outputNumber(diagonal);
   report["tolerance"] = std::move(tolerance);
+  report["resweeps"] = envelope.resweeps;
   report["spans"] = envelope.spans;
   report["cycle_triangles"] = envelope.cycle_triangles;
   report["intersecting_pairs"] = envelope.intersecting_pairs;
@@ -962,6 +965,9 @@ SweepOutput sweepCommand(const SweepRequest& request) {
       count(envelope.triangles.size(), "triangle", "triangles") + ", volume " + num(envelope.volume) + ", area " +
       num(envelope.area) + " (tolerance " + num(envelope.tolerance) + " = " + num(relative) +
       " x body diagonal) written to " + request.output + (request.binary ? " (binary)" : "") + " in " + seconds +
+      (envelope.resweeps > 0 ? " (swept again " + count(envelope.resweeps, "time", "times") +
+                                   " with a finer tessellation, " + num(envelope.tessellation_tolerance) + ")"
+                             : std::string()) +
       "; check: " + checkSummary(envelope.check, request.check) +
       uncertifiedWarning(envelope);
   return result;

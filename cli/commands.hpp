@@ -6,6 +6,7 @@
 // written.
 
 #include <steady/core/ear.hpp>
+#include <steady/sweep/envelope.hpp>
 
 #include <optional>
 #include <stdexcept>
@@ -89,6 +90,7 @@ struct SweepRequest {
   bool check = true;        ///< check the envelope for self-intersections (SweepOptions::check)
   bool progress = false;    ///< draw a progress bar on standard error (when it is a terminal)
   int threads = 0;          ///< worker threads (SweepOptions::threads; 0: every hardware thread)
+  int refinements = steady::sweep::SweepOptions{}.refinements;  ///< re-sweeps allowed (SweepOptions::refinements)
 };
 
 /// Output of `steady sweep`.

@@ -70,6 +70,23 @@ steady::EarOptions earOptions(const std::string& half_turn) {
   return o;
 }
 
+// An option's check: a whole number from 0 to `most` (`note` explains 0, or is empty).
+CLI::Validator wholeNumber(long most, const std::string& note) {
+  return CLI::Validator(
+      [most, note](const std::string& text) -> std::string {
+        std::size_t used = 0;
+        long n = -1;
+        try {
+          n = std::stol(text, &used);
+        } catch (const std::exception&) {
+        }
+        if (used != text.size() || n < 0 || n > most)
+          return "'" + text + "' is not a whole number from 0 to " + std::to_string(most) + note;
+        return std::string();
+      },
+      "N >= 0");
+}
+
 // Writes the whole answer at once; a failing stdout (full disk, closed pipe) is an error.
 int emit(const std::string& text) {
   const bool ok = std::fwrite(text.data(), 1, text.size(), stdout) == text.size() && std::fflush(stdout) == 0;
@@ -290,19 +307,13 @@ int main(int argc, char** argv) {
                     "Threads for the exact re-triangulation and the inside tests; 0 (default): every hardware "
                     "thread. The envelope does not depend on it")
       ->type_name("N")
-      ->check(CLI::Validator(
-          [](const std::string& text) -> std::string {
-            std::size_t used = 0;
-            long n = -1;
-            try {
-              n = std::stol(text, &used);
-            } catch (const std::exception&) {
-            }
-            if (used != text.size() || n < 0 || n > 4096)
-              return "'" + text + "' is not a whole number from 0 to 4096 (0: every hardware thread)";
-            return std::string();
-          },
-          "N >= 0"));
+      ->check(wholeNumber(4096, " (0: every hardware thread)"));
+  sweep->add_option("--refinements", sweep_request.refinements,
+                    "Sweeps run again, each with a tessellation twice as fine, when the envelope leaves doubt "
+                    "(its check fails, or some vertex or face centroid on kept walls or inner shells is not "
+                    "certified within the tolerance); the best envelope is written. 0: never; default 2")
+      ->type_name("N")
+      ->check(wholeNumber(8, ""));
   bool sweep_no_check = false;
   sweep->add_flag("--no-check", sweep_no_check,
                   "Skip the exact self-intersection check of the envelope (about a tenth of the time)");
