@@ -281,6 +281,7 @@ bool steadySweep(benchmark::State& state, const SweepBody& b, const Motion& moti
   state.counters["kept_uncertified"] = static_cast<double>(env.kept_wall_uncertified.size());
   state.counters["kept_faces_uncertified"] = static_cast<double>(env.kept_wall_faces_uncertified.size());
   state.counters["deep_fills"] = static_cast<double>(env.deep_fillings_taken);
+  state.counters["resweeps"] = static_cast<double>(env.resweeps);
   state.counters["refined_fills"] = static_cast<double>(env.fillings_refined);
   state.counters["rim_out"] = static_cast<double>(env.mouth_rim_faces_removed);
   state.counters["dents"] = static_cast<double>(env.buried_dents_filled);
