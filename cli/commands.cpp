@@ -965,8 +965,8 @@ SweepOutput sweepCommand(const SweepRequest& request) {
       count(envelope.triangles.size(), "triangle", "triangles") + ", volume " + num(envelope.volume) + ", area " +
       num(envelope.area) + " (tolerance " + num(envelope.tolerance) + " = " + num(relative) +
       " x body diagonal) written to " + request.output + (request.binary ? " (binary)" : "") + " in " + seconds +
-      (envelope.resweeps > 0 ? " (swept again " + count(envelope.resweeps, "time", "times") +
-                                   " with a finer tessellation, " + num(envelope.tessellation_tolerance) + ")"
+      (envelope.resweeps > 0 ? " after " + count(envelope.resweeps, "re-sweep", "re-sweeps") +
+                                   " (tessellation tolerance " + num(envelope.tessellation_tolerance) + ")"
                              : std::string()) +
       "; check: " + checkSummary(envelope.check, request.check) +
       uncertifiedWarning(envelope);

@@ -411,6 +411,8 @@ std::string runCase(const Case& c, long index, const Options& opt) {
         notes += format(" | deep fillings taken %zu, bound %.3g eps", env.deep_fillings_taken,
                         env.filling_depth_bound / env.tolerance);
       if (env.fillings_refined > 0) notes += format(" | fillings refined %zu", env.fillings_refined);
+      if (env.resweeps > 0)
+        notes += format(" | resweeps %zu (eps_t = eps / %.0f)", env.resweeps, env.tolerance / env.tessellation_tolerance);
       if (!env.cavity_uncertified.empty())
         notes += format(" | cavity vertices %zu, %zu uncertified, bound %.3g eps", env.cavity_vertices,
                         env.cavity_uncertified.size(), env.cavity_depth_bound / env.tolerance);
