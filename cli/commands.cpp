@@ -950,9 +950,7 @@ SweepOutput sweepCommand(const SweepRequest& request) {
 
   SweepOutput result;
   if (request.report == "-") result.json = report_text;
-  const steady::sweep::MeshCheck& c = envelope.check;
-  result.defective = !(c.closed && c.manifold && c.oriented && c.self_intersections <= 0 &&
-                       c.degenerate_faces == 0 && envelope.cycle_open_edges == 0);
+  result.defective = !steady::sweep::passedCheck(envelope);
   char seconds[32];
   std::snprintf(seconds, sizeof seconds, "%.2f s", secondsSince(start));
   result.summary =

@@ -4831,13 +4831,13 @@ DepthBound centroidDepths(const std::vector<Vec>& V, const std::vector<Tri>& T, 
   return out;
 }
 
-// `share`: the tessellation tolerance as a share of eps (kTessellationShare, or less on a re-sweep).
-Envelope envelopeOf(detail::Cycle cycle, double eps, double share, std::size_t spans, const SweptVolume& swept,
+// `eps_t`: the tessellation tolerance of the cycle (kTessellationShare eps, or less on a re-sweep).
+Envelope envelopeOf(detail::Cycle cycle, double eps, double eps_t, std::size_t spans, const SweptVolume& swept,
                     const SweepOptions& options, std::chrono::steady_clock::time_point t_start, double t_cycle) {
   const std::function<bool(const Vec&)> inside_swept = [&swept](const Vec& x) { return swept.contains(x); };
   Envelope env;
   env.tolerance = eps;
-  env.tessellation_tolerance = share * eps;
+  env.tessellation_tolerance = eps_t;
   env.spans = spans;
   // (the certified depth bounds of fillings, dent triangles, kept walls and cavities)
   const DepthTest certify{inside_swept, eps, swept.tolerance()};
@@ -4867,8 +4867,8 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, double share, std::size_t s
   // Faces with w = 0 on one side and w >= 1 on the other, towards w = 0; one of each overlap.
   t0 = std::chrono::steady_clock::now();
   if (options.progress) options.progress({"output", 0.0});
-  std::vector<char> buried = buriedPatches(A, L, share * eps, inside_swept, options.threads);
-  std::vector<char> crack = crackFaces(A, L, buried, share * eps, inside_swept, options.threads);
+  std::vector<char> buried = buriedPatches(A, L, eps_t, inside_swept, options.threads);
+  std::vector<char> crack = crackFaces(A, L, buried, eps_t, inside_swept, options.threads);
   // Crack walls joined across shared edges form regions, and buried patches hold faces of
   // their own; both are cut into pieces by a grid (see kCrackCell), and a piece at a mouth that
   // cannot be closed is kept as a whole, not its whole region or patch (campaign case 482: a
@@ -4877,7 +4877,7 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, double share, std::size_t s
   std::vector<int> crack_region(A.faces.size(), -1), pocket_piece(A.faces.size(), -1);
   std::vector<char> pocket(A.faces.size(), 0);  // faces of buried patches
   {
-    const double cell = kCrackCell * share * eps;
+    const double cell = kCrackCell * eps_t;
     std::map<std::array<long long, 4>, int> crack_ids, pocket_ids;
     auto piece = [&](std::map<std::array<long long, 4>, int>& ids, long long owner, std::size_t f) {
       const Tri& t = A.faces[f];
@@ -4963,7 +4963,7 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, double share, std::size_t s
     std::vector<int> origin(env.vertices.size());  // (the selection's vertices in arrangement numbers)
     for (std::size_t v = 0; v < used.size(); ++v)
       if (used[v] >= 0) origin[static_cast<std::size_t>(used[v])] = static_cast<int>(v);
-    mouths = fillMouths(env.vertices, env.triangles, share * eps, trouble, round < kRimRounds ? &rim : nullptr,
+    mouths = fillMouths(env.vertices, env.triangles, eps_t, trouble, round < kRimRounds ? &rim : nullptr,
                         flaps, certify, round < kRefuseRounds ? kRefuseAll : last_deep,
                         found_deep, filling_depths, origin, selected_face, memory, options.threads);
     if (found_deep >= 0) last_deep = found_deep;
@@ -5074,7 +5074,7 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, double share, std::size_t s
   // Tips of three faces that poke into the swept volume give way to the triangle of their
   // neighbours (see fillBuriedDents).
   env.buried_dents_filled =
-      fillBuriedDents(env.vertices, env.triangles, share * eps, certify,
+      fillBuriedDents(env.vertices, env.triangles, eps_t, certify,
                       options.threads);
   // Rounding: exact points that differ by a few units in the last place (e.g. input noise of
   // 1e-17 carried through exact constructions) round to points that make slivers cross. Merge
@@ -5184,11 +5184,8 @@ double resolveTolerance(const Body& body, const SweepOptions& o) {
 // of its vertices or face centroids on kept walls or inner shells are not certified within ε;
 // deep fillings taken do not count (see SweepOptions::refinements). Of two envelopes, the
 // better has a passing check, then fewer such vertices and faces, then fewer deep fillings.
-bool checkFails(const Envelope& e) {
-  const MeshCheck& c = e.check;
-  return !(c.closed && c.manifold && c.oriented && c.self_intersections <= 0 && c.degenerate_faces == 0 &&
-           e.cycle_open_edges == 0 && e.pinches_touching == 0);
-}
+// (Pinches left touching count too: with the check off they are not seen as crossing faces.)
+bool checkFails(const Envelope& e) { return !passedCheck(e) || e.pinches_touching > 0; }
 std::size_t uncertified(const Envelope& e) {
   return e.kept_wall_uncertified.size() + e.kept_wall_faces_uncertified.size() + e.cavity_uncertified.size() +
          e.cavity_faces_uncertified.size();
@@ -5201,21 +5198,23 @@ bool better(const Envelope& a, const Envelope& b) {
   return key(a) < key(b);
 }
 
-// Sweeps with the tessellation tolerance kTessellationShare ε, then, while the envelope leaves
-// doubt and options.refinements allows, again with half the share each time; returns the best
-// envelope (the earliest among equals), with `resweeps` and the whole call's time. A re-sweep
-// that throws (a finer grid exceeding max_steps) ends the series with what came before.
+// Sweeps (sweep(eps_t): the envelope for the tessellation tolerance eps_t) with eps_t =
+// kTessellationShare ε, then, while the envelope leaves doubt and options.refinements allows,
+// again with half the tolerance each time; returns the best envelope (the earliest among
+// equals), with `resweeps` and the whole call's time. A re-sweep that throws (a finer grid
+// exceeding max_steps) ends the series with what came before.
 template <class Sweep>
-Envelope sweepWithRefinements(const SweepOptions& options, std::chrono::steady_clock::time_point t_start, Sweep&& sweep) {
-  Envelope best = sweep(kTessellationShare);
-  double share = kTessellationShare;
+Envelope sweepWithRefinements(const SweepOptions& options, double eps, std::chrono::steady_clock::time_point t_start,
+                              Sweep&& sweep) {
+  double eps_t = kTessellationShare * eps;
+  Envelope best = sweep(eps_t);
   std::size_t resweeps = 0;
   while (doubtful(best) && static_cast<int>(resweeps) < options.refinements) {
-    share *= 0.5;
+    eps_t *= 0.5;
     ++resweeps;
     Envelope next;
     try {
-      next = sweep(share);
+      next = sweep(eps_t);
     } catch (const Error&) {
       break;
     }
@@ -5233,18 +5232,18 @@ Envelope sweptEnvelope(const Body& body, const Motion3& motion, const SweepOptio
   const double eps = resolveTolerance(body, options);
   const std::size_t n = motion.spanCount();
   const SweptVolume swept(body, motion);
-  return sweepWithRefinements(options, t_start, [&](double share) {
+  return sweepWithRefinements(options, eps, t_start, [&](double eps_t) {
     const auto t_cycle = std::chrono::steady_clock::now();
     detail::Cycle cycle;
     for (std::size_t i = 0; i < n; ++i) {
       if (options.progress) options.progress({"cycle", static_cast<double>(i) / static_cast<double>(n)});
       // Joints use the next span's start pose, so that consecutive caps coincide exactly.
       const Affine3 next = i + 1 < n ? motion.span(i + 1).start() : Affine3();
-      detail::appendSpanCycle(cycle, body, motion.span(i), i + 1 < n ? &next : nullptr, share * eps, options.grazing,
+      detail::appendSpanCycle(cycle, body, motion.span(i), i + 1 < n ? &next : nullptr, eps_t, options.grazing,
                               options.max_steps, static_cast<int>(i));
     }
     if (n > 1) detail::cancelOpposite(cycle);
-    return envelopeOf(std::move(cycle), eps, share, n, swept, options, t_cycle, seconds(t_cycle));
+    return envelopeOf(std::move(cycle), eps, eps_t, n, swept, options, t_cycle, seconds(t_cycle));
   });
 }
 
@@ -5252,13 +5251,19 @@ Envelope sweptEnvelope(const Body& body, const Span3& span, const SweepOptions& 
   const auto t_start = std::chrono::steady_clock::now();
   const double eps = resolveTolerance(body, options);
   const SweptVolume swept(body, span);
-  return sweepWithRefinements(options, t_start, [&](double share) {
+  return sweepWithRefinements(options, eps, t_start, [&](double eps_t) {
     const auto t_cycle = std::chrono::steady_clock::now();
     detail::Cycle cycle;
     if (options.progress) options.progress({"cycle", 0.0});
-    detail::appendSpanCycle(cycle, body, span, nullptr, share * eps, options.grazing, options.max_steps, 0);
-    return envelopeOf(std::move(cycle), eps, share, 1, swept, options, t_cycle, seconds(t_cycle));
+    detail::appendSpanCycle(cycle, body, span, nullptr, eps_t, options.grazing, options.max_steps, 0);
+    return envelopeOf(std::move(cycle), eps, eps_t, 1, swept, options, t_cycle, seconds(t_cycle));
   });
+}
+
+bool passedCheck(const Envelope& envelope) {
+  const MeshCheck& c = envelope.check;
+  return c.closed && c.manifold && c.oriented && c.self_intersections <= 0 && c.degenerate_faces == 0 &&
+         envelope.cycle_open_edges == 0;
 }
 
 MeshCheck inspectMesh(const std::vector<Eigen::Vector3d>& vertices, const std::vector<std::array<int, 3>>& triangles,

@@ -1048,7 +1048,8 @@ TEST(Envelope, DoubtfulEnvelopesAreSweptAgain) {
   }
 }
 
-// An envelope without doubt is not swept again; a negative refinements is refused.
+// An envelope without doubt is not swept again (and passes its check); a negative refinements
+// is refused.
 TEST(Envelope, CertifiedEnvelopeIsNotSweptAgain) {
   const Mesh m = box(V(0, 0, 0), V(1, 1, 1));
   const Motion3 motion = single(Affine3(), Affine3::translation(V(2, 0.5, 0.25)) * Affine3::rotation(V(0, 0, 1), 0.5));
@@ -1056,6 +1057,10 @@ TEST(Envelope, CertifiedEnvelopeIsNotSweptAgain) {
   EXPECT_EQ(env.resweeps, 0u);
   EXPECT_DOUBLE_EQ(env.tessellation_tolerance, 0.5 * env.tolerance);
   EXPECT_GE(env.timings.total, env.timings.cycle + env.timings.intersect + env.timings.label + env.timings.output);
+  EXPECT_TRUE(passedCheck(env));
+  Envelope open = env;
+  open.check.closed = false;
+  EXPECT_FALSE(passedCheck(open));
   SweepOptions bad;
   bad.refinements = -1;
   EXPECT_TRUE(throwsError([&] { sweptEnvelope(makeBody(m), motion, bad); }, ErrorCode::InvalidArgument, "refinements"));

@@ -298,6 +298,12 @@ Envelope sweptEnvelope(const Body& body, const Motion3& motion, const SweepOptio
 /// The envelope of `body` swept along one span (pose `span.pose(τ)`, τ in [0, 1]).
 Envelope sweptEnvelope(const Body& body, const Span3& span, const SweepOptions& options = {});
 
+/// Whether `envelope` passed its check: closed, manifold, oriented, no self-intersecting face
+/// pair (or not checked: SweepOptions::check off), no degenerate face, and a closed sweep cycle
+/// (Envelope::cycle_open_edges 0). The CLI writes an envelope that fails it for inspection only
+/// (exit status 4).
+bool passedCheck(const Envelope& envelope);
+
 /// Checks a triangle mesh: closed, oriented, manifold, self-intersections (exact predicates on
 /// the double coordinates, when `self_intersections` is true), shells, volume and area.
 /// Never throws for bad meshes (that is what it reports); throws Error(InvalidArgument) for a
