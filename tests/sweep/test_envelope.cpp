@@ -980,7 +980,7 @@ TEST(Envelope, DeepStripIsRefused) {
 // The stress campaign's torus on a polySAM of four poses (case 12979, tolerance 2e-3): walls
 // are kept (293 crack faces) at mouths that no filling closes, and one of their vertices lies
 // about 2 eps deep in the swept volume, with no point outside within T of it. That is an error
-// of the envelope (see README, What does not hold yet), and the envelope must report it: every
+// of the envelope (see README, Limits), and the envelope must report it: every
 // vertex the certified oracle finds without an outside point within T, in a box of 40 eps about
 // that vertex, is listed as a kept-wall vertex not certified within eps, and the bound exceeds
 // eps. (Once no wall there is kept so deep, the first expectation fails: pick another such
