@@ -47,6 +47,7 @@
 #include "box_orientation.hpp"
 #include "cycle.hpp"
 #include "depth_bound.hpp"
+#include "doubt.hpp"
 #include "face_tree.hpp"
 #include "filling.hpp"
 #include "pinches.hpp"
@@ -4741,9 +4742,20 @@ constexpr int kHintAfter = 64;
 struct DepthBound {
   double worst = 0;
   std::vector<int> beyond;  // the vertices whose bound exceeds ε, in increasing order
+  bool partial = false;     // some were left unmeasured (see Doubt)
 };
+
+// The shared count of the points found deeper than ε by surfaceDepths and centroidDepths, and
+// the count at which they stop measuring (see doubt.hpp). Points left unmeasured are in no list;
+// DepthBound::partial says so.
+struct Doubt {
+  std::atomic<std::size_t> found{0};
+  std::size_t cap = std::numeric_limits<std::size_t>::max();
+  bool reached() const { return found.load(std::memory_order_relaxed) >= cap; }
+};
+
 DepthBound surfaceDepths(const std::vector<Vec>& V, const std::vector<Tri>& T, const std::vector<int>& which, double eps,
-                         const SweptVolume& swept, int threads) {
+                         const SweptVolume& swept, int threads, Doubt& doubt) {
   DepthBound out;
   if (which.empty()) return out;
   std::vector<int> slot(V.size(), -1);
@@ -4768,8 +4780,9 @@ DepthBound surfaceDepths(const std::vector<Vec>& V, const std::vector<Tri>& T, c
       }
     }
   }
-  std::vector<double> bound(which.size());
+  std::vector<double> bound(which.size(), std::numeric_limits<double>::quiet_NaN());
   parallelFor(0, which.size(), threads, [&](std::size_t i) {
+    if (doubt.reached()) return;
     detail::SurfaceProbes& p = probes[i];
     // (12 directions in the plane of each normal: the vertex normal's, then each face's)
     auto circle = [&](const Vec& n) {
@@ -4795,8 +4808,13 @@ DepthBound surfaceDepths(const std::vector<Vec>& V, const std::vector<Tri>& T, c
       return hint ? swept.contains(q, *hint) : swept.contains(q);
     };
     bound[i] = detail::depthBound(x, eps, swept.tolerance(), inside, p);
+    if (bound[i] > eps) doubt.found.fetch_add(1, std::memory_order_relaxed);
   });
   for (std::size_t i = 0; i < which.size(); ++i) {
+    if (std::isnan(bound[i])) {
+      out.partial = true;
+      continue;
+    }
     out.worst = std::max(out.worst, bound[i]);
     if (bound[i] > eps) out.beyond.push_back(which[i]);
   }
@@ -4810,7 +4828,7 @@ DepthBound surfaceDepths(const std::vector<Vec>& V, const std::vector<Tri>& T, c
 // 1.01 and 1.04 ε deep in a posed body). Returns the largest bound, and the faces whose bound
 // exceeds ε.
 DepthBound centroidDepths(const std::vector<Vec>& V, const std::vector<Tri>& T, const std::vector<int>& which,
-                          const DepthTest& depth, int threads) {
+                          const DepthTest& depth, int threads, Doubt& doubt) {
   DepthBound out;
   if (which.empty() || !depth.inside) return out;
   std::vector<char> in(V.size(), 0);
@@ -4818,24 +4836,94 @@ DepthBound centroidDepths(const std::vector<Vec>& V, const std::vector<Tri>& T, 
   std::vector<int> faces;
   for (std::size_t f = 0; f < T.size(); ++f)
     if (in[T[f][0]] || in[T[f][1]] || in[T[f][2]]) faces.push_back(static_cast<int>(f));
-  std::vector<double> bound(faces.size());
+  std::vector<double> bound(faces.size(), std::numeric_limits<double>::quiet_NaN());
   parallelFor(0, faces.size(), threads, [&](std::size_t i) {
+    if (doubt.reached()) return;
     const Tri& t = T[static_cast<std::size_t>(faces[i])];
     const Vec n = (V[t[1]] - V[t[0]]).cross(V[t[2]] - V[t[0]]).normalized();
     bound[i] = depth.boundAt((V[t[0]] + V[t[1]] + V[t[2]]) / 3.0, n);
+    if (bound[i] > depth.eps) doubt.found.fetch_add(1, std::memory_order_relaxed);
   });
   for (std::size_t i = 0; i < faces.size(); ++i) {
+    if (std::isnan(bound[i])) {
+      out.partial = true;
+      continue;
+    }
     out.worst = std::max(out.worst, bound[i]);
     if (bound[i] > depth.eps) out.beyond.push_back(faces[i]);
   }
   return out;
 }
 
-// `eps_t`: the tessellation tolerance of the cycle (kTessellationShare eps, or less on a re-sweep).
-Envelope envelopeOf(detail::Cycle cycle, double eps, double eps_t, std::size_t spans, const SweptVolume& swept,
-                    const SweepOptions& options, std::chrono::steady_clock::time_point t_start, double t_cycle) {
-  const std::function<bool(const Vec&)> inside_swept = [&swept](const Vec& x) { return swept.contains(x); };
+// An envelope and what finishing its certificates needs (see Doubt): the vertices of its
+// kept walls and of its inner shells, and whether their depths were measured only in part.
+struct Draft {
   Envelope env;
+  std::vector<int> kept, cavity;
+  bool partial = false;
+};
+
+// The vertices of the shells of (V, T) other than the one of largest signed volume, in
+// increasing order; none when there is one shell.
+std::vector<int> innerShellVertices(const std::vector<Vec>& V, const std::vector<Tri>& T, int threads) {
+  const auto sides = edgeSides(T, V.size(), threads);
+  std::vector<int> parent = shellForest(T, sides);
+  std::vector<double> volume(T.size(), 0.0);  // per shell, at its root
+  std::size_t shells = 0;
+  int outer = -1;
+  for (std::size_t f = 0; f < T.size(); ++f) {
+    const Tri& t = T[f];
+    const int root = findRoot(parent, static_cast<int>(f));
+    shells += root == static_cast<int>(f);
+    volume[static_cast<std::size_t>(root)] += V[t[0]].dot(V[t[1]].cross(V[t[2]])) / 6.0;
+  }
+  std::vector<int> which;
+  if (shells < 2) return which;
+  for (std::size_t f = 0; f < T.size(); ++f)
+    if (findRoot(parent, static_cast<int>(f)) == static_cast<int>(f) &&
+        (outer < 0 || volume[f] > volume[static_cast<std::size_t>(outer)]))
+      outer = static_cast<int>(f);
+  std::vector<char> inner(V.size(), 0);
+  for (std::size_t f = 0; f < T.size(); ++f)
+    if (findRoot(parent, static_cast<int>(f)) != outer)
+      for (const int v : T[f]) inner[static_cast<std::size_t>(v)] = 1;
+  for (std::size_t v = 0; v < inner.size(); ++v)
+    if (inner[v]) which.push_back(static_cast<int>(v));
+  return which;
+}
+
+// How deep the vertices draft.kept and draft.cavity of draft.env, and the centroids of their
+// faces, lie (Envelope::kept_wall_* and cavity_*), giving up past `cap` points deeper than ε
+// (see Doubt; draft.partial says so).
+void certifyDepths(Draft& draft, const SweptVolume& swept, int threads, std::size_t cap) {
+  Envelope& env = draft.env;
+  const double eps = env.tolerance;
+  const DepthTest certify{[&swept](const Vec& x) { return swept.contains(x); }, eps, swept.tolerance()};
+  Doubt doubt;
+  doubt.cap = cap;
+  const DepthBound kept = surfaceDepths(env.vertices, env.triangles, draft.kept, eps, swept, threads, doubt);
+  const DepthBound kept_faces = centroidDepths(env.vertices, env.triangles, draft.kept, certify, threads, doubt);
+  env.kept_wall_vertices = draft.kept.size();
+  env.kept_wall_depth_bound = std::max(kept.worst, kept_faces.worst);
+  env.kept_wall_uncertified = kept.beyond;
+  env.kept_wall_faces_uncertified = kept_faces.beyond;
+  const DepthBound cavity = surfaceDepths(env.vertices, env.triangles, draft.cavity, eps, swept, threads, doubt);
+  const DepthBound cavity_faces = centroidDepths(env.vertices, env.triangles, draft.cavity, certify, threads, doubt);
+  env.cavity_vertices = draft.cavity.size();
+  env.cavity_depth_bound = std::max(cavity.worst, cavity_faces.worst);
+  env.cavity_uncertified = cavity.beyond;
+  env.cavity_faces_uncertified = cavity_faces.beyond;
+  draft.partial = kept.partial || kept_faces.partial || cavity.partial || cavity_faces.partial;
+}
+
+// `eps_t`: the tessellation tolerance of the cycle (kTessellationShare eps, or less on a re-sweep);
+// `cap`: see certifyDepths.
+Draft envelopeOf(detail::Cycle cycle, double eps, double eps_t, std::size_t spans, const SweptVolume& swept,
+                 const SweepOptions& options, std::chrono::steady_clock::time_point t_start, double t_cycle,
+                 std::size_t cap) {
+  const std::function<bool(const Vec&)> inside_swept = [&swept](const Vec& x) { return swept.contains(x); };
+  Draft draft;
+  Envelope& env = draft.env;
   env.tolerance = eps;
   env.tessellation_tolerance = eps_t;
   env.spans = spans;
@@ -5103,49 +5191,10 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, double eps_t, std::size_t s
     env.pinched_vertices_split = copies;
     env.pinches_touching = detail::separatePinches(env.vertices, env.triangles, eps, options.threads);
   }
-  {  // how deep the output vertices of the kept walls, and their faces' centroids, lie
-    const std::vector<int> on_kept = verticesNear(env.vertices, kept_points, kKeptMatch * eps);
-    const DepthBound depth =
-        surfaceDepths(env.vertices, env.triangles, on_kept, eps, swept, options.threads);
-    const DepthBound faces = centroidDepths(env.vertices, env.triangles, on_kept, certify, options.threads);
-    env.kept_wall_vertices = on_kept.size();
-    env.kept_wall_depth_bound = std::max(depth.worst, faces.worst);
-    env.kept_wall_uncertified = depth.beyond;
-    env.kept_wall_faces_uncertified = faces.beyond;
-  }
-  {  // how deep the vertices of inner shells lie (see Envelope::cavity_vertices)
-    const auto sides = edgeSides(env.triangles, env.vertices.size(), options.threads);
-    std::vector<int> parent = shellForest(env.triangles, sides);
-    std::vector<double> volume(env.triangles.size(), 0.0);  // per shell, at its root
-    std::size_t shells = 0;
-    int outer = -1;
-    for (std::size_t f = 0; f < env.triangles.size(); ++f) {
-      const Tri& t = env.triangles[f];
-      const int root = findRoot(parent, static_cast<int>(f));
-      shells += root == static_cast<int>(f);
-      volume[static_cast<std::size_t>(root)] += env.vertices[t[0]].dot(env.vertices[t[1]].cross(env.vertices[t[2]])) / 6.0;
-    }
-    for (std::size_t f = 0; f < env.triangles.size(); ++f)
-      if (findRoot(parent, static_cast<int>(f)) == static_cast<int>(f) &&
-          (outer < 0 || volume[f] > volume[static_cast<std::size_t>(outer)]))
-        outer = static_cast<int>(f);
-    if (shells > 1) {
-      std::vector<char> inner(env.vertices.size(), 0);
-      for (std::size_t f = 0; f < env.triangles.size(); ++f)
-        if (findRoot(parent, static_cast<int>(f)) != outer)
-          for (const int v : env.triangles[f]) inner[static_cast<std::size_t>(v)] = 1;
-      std::vector<int> which;
-      for (std::size_t v = 0; v < inner.size(); ++v)
-        if (inner[v]) which.push_back(static_cast<int>(v));
-      const DepthBound depth =
-          surfaceDepths(env.vertices, env.triangles, which, eps, swept, options.threads);
-      const DepthBound faces = centroidDepths(env.vertices, env.triangles, which, certify, options.threads);
-      env.cavity_vertices = which.size();
-      env.cavity_depth_bound = std::max(depth.worst, faces.worst);
-      env.cavity_uncertified = depth.beyond;
-      env.cavity_faces_uncertified = faces.beyond;
-    }
-  }
+  // the vertices of the kept walls and of the inner shells, to certify (see certifyDepths)
+  draft.kept = verticesNear(env.vertices, kept_points, kKeptMatch * eps);
+  draft.cavity = innerShellVertices(env.vertices, env.triangles, options.threads);
+  certifyDepths(draft, swept, options.threads, cap);
   env.timings.output = seconds(t0);
 
   t0 = std::chrono::steady_clock::now();
@@ -5155,7 +5204,7 @@ Envelope envelopeOf(detail::Cycle cycle, double eps, double eps_t, std::size_t s
   env.timings.check = seconds(t0);
   env.timings.total = seconds(t_start);
   if (options.progress) options.progress({"output", 1.0});
-  return env;
+  return draft;
 }
 
 double resolveTolerance(const Body& body, const SweepOptions& o) {
@@ -5183,7 +5232,8 @@ double resolveTolerance(const Body& body, const SweepOptions& o) {
 // Re-sweeps (SweepOptions::refinements). An envelope leaves doubt when its check fails or some
 // of its vertices or face centroids on kept walls or inner shells are not certified within ε;
 // deep fillings taken do not count (see SweepOptions::refinements). Of two envelopes, the
-// better has a passing check, then fewer such vertices and faces, then fewer deep fillings.
+// better has a passing check, then fewer such vertices and faces (`cap` or more count as
+// equally many: see doubt.hpp), then fewer deep fillings.
 // (Pinches left touching count too: with the check off they are not seen as crossing faces.)
 bool checkFails(const Envelope& e) { return !passedCheck(e) || e.pinches_touching > 0; }
 std::size_t uncertified(const Envelope& e) {
@@ -5191,48 +5241,59 @@ std::size_t uncertified(const Envelope& e) {
          e.cavity_faces_uncertified.size();
 }
 bool doubtful(const Envelope& e) { return checkFails(e) || uncertified(e) > 0; }
-bool better(const Envelope& a, const Envelope& b) {
-  const auto key = [](const Envelope& e) {
-    return std::make_tuple(checkFails(e), uncertified(e), e.deep_fillings_taken);
+bool better(const Envelope& a, const Envelope& b, std::size_t cap) {
+  const auto key = [cap](const Envelope& e) {
+    return std::make_tuple(checkFails(e), std::min(uncertified(e), cap), e.deep_fillings_taken);
   };
   return key(a) < key(b);
 }
 
-// Sweeps (sweep(eps_t): the envelope for the tessellation tolerance eps_t) with eps_t =
-// kTessellationShare ε, then, while the envelope leaves doubt and options.refinements allows,
-// again with half the tolerance each time; returns the best envelope (the earliest among
-// equals), with `resweeps` and the whole call's time. A re-sweep that throws (a finer grid
-// exceeding max_steps) ends the series with what came before.
+// Sweeps (sweep(eps_t, cap): the draft envelope for the tessellation tolerance eps_t, its
+// certificates given up past `cap` points: doubt_cap when a re-sweep is allowed, see doubt.hpp)
+// with eps_t = kTessellationShare
+// ε, then, while the envelope leaves doubt and options.refinements allows, again with half the
+// tolerance each time; returns the best envelope (the earliest among equals), its certificates
+// completed, with `resweeps` and the whole call's time. A re-sweep that throws (a finer grid
+// exceeding max_steps) ends the series with what came before. Certificates are given up only
+// when a re-sweep is allowed, and finished only on the envelope returned.
 template <class Sweep>
-Envelope sweepWithRefinements(const SweepOptions& options, double eps, std::chrono::steady_clock::time_point t_start,
-                              Sweep&& sweep) {
+Envelope sweepWithRefinements(const SweepOptions& options, double eps, const SweptVolume& swept,
+                              std::chrono::steady_clock::time_point t_start, std::size_t doubt_cap, Sweep&& sweep) {
+  const std::size_t cap = options.refinements > 0 ? doubt_cap : std::numeric_limits<std::size_t>::max();
   double eps_t = kTessellationShare * eps;
-  Envelope best = sweep(eps_t);
+  Draft best = sweep(eps_t, cap);
   std::size_t resweeps = 0;
-  while (doubtful(best) && static_cast<int>(resweeps) < options.refinements) {
+  while (doubtful(best.env) && static_cast<int>(resweeps) < options.refinements) {
     eps_t *= 0.5;
     ++resweeps;
-    Envelope next;
+    Draft next;
     try {
-      next = sweep(eps_t);
+      next = sweep(eps_t, cap);
     } catch (const Error&) {
       break;
     }
-    if (better(next, best)) best = std::move(next);
+    if (better(next.env, best.env, cap)) best = std::move(next);
   }
-  best.resweeps = resweeps;
-  best.timings.total = seconds(t_start);
-  return best;
+  if (best.partial) {
+    const auto t0 = std::chrono::steady_clock::now();
+    certifyDepths(best, swept, options.threads, std::numeric_limits<std::size_t>::max());
+    best.env.timings.output += seconds(t0);
+  }
+  best.env.resweeps = resweeps;
+  best.env.timings.total = seconds(t_start);
+  return std::move(best.env);
 }
 
 }  // namespace
 
-Envelope sweptEnvelope(const Body& body, const Motion3& motion, const SweepOptions& options) {
+Envelope detail::sweptEnvelope(const Body& body, const Motion3& motion, const SweepOptions& options,
+                               std::size_t doubt_cap) {
   const auto t_start = std::chrono::steady_clock::now();
+  if (doubt_cap < 1) throw Error(ErrorCode::InvalidArgument, "detail::sweptEnvelope: doubt_cap must be >= 1");
   const double eps = resolveTolerance(body, options);
   const std::size_t n = motion.spanCount();
   const SweptVolume swept(body, motion);
-  return sweepWithRefinements(options, eps, t_start, [&](double eps_t) {
+  return sweepWithRefinements(options, eps, swept, t_start, doubt_cap, [&](double eps_t, std::size_t cap) {
     const auto t_cycle = std::chrono::steady_clock::now();
     detail::Cycle cycle;
     for (std::size_t i = 0; i < n; ++i) {
@@ -5243,20 +5304,24 @@ Envelope sweptEnvelope(const Body& body, const Motion3& motion, const SweepOptio
                               options.max_steps, static_cast<int>(i));
     }
     if (n > 1) detail::cancelOpposite(cycle);
-    return envelopeOf(std::move(cycle), eps, eps_t, n, swept, options, t_cycle, seconds(t_cycle));
+    return envelopeOf(std::move(cycle), eps, eps_t, n, swept, options, t_cycle, seconds(t_cycle), cap);
   });
+}
+
+Envelope sweptEnvelope(const Body& body, const Motion3& motion, const SweepOptions& options) {
+  return detail::sweptEnvelope(body, motion, options, detail::kDoubtCap);
 }
 
 Envelope sweptEnvelope(const Body& body, const Span3& span, const SweepOptions& options) {
   const auto t_start = std::chrono::steady_clock::now();
   const double eps = resolveTolerance(body, options);
   const SweptVolume swept(body, span);
-  return sweepWithRefinements(options, eps, t_start, [&](double eps_t) {
+  return sweepWithRefinements(options, eps, swept, t_start, detail::kDoubtCap, [&](double eps_t, std::size_t cap) {
     const auto t_cycle = std::chrono::steady_clock::now();
     detail::Cycle cycle;
     if (options.progress) options.progress({"cycle", 0.0});
     detail::appendSpanCycle(cycle, body, span, nullptr, eps_t, options.grazing, options.max_steps, 0);
-    return envelopeOf(std::move(cycle), eps, eps_t, 1, swept, options, t_cycle, seconds(t_cycle));
+    return envelopeOf(std::move(cycle), eps, eps_t, 1, swept, options, t_cycle, seconds(t_cycle), cap);
   });
 }
 

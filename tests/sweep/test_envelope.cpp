@@ -21,6 +21,8 @@
 #include "sweep/envelope_oracle.hpp"
 #include "sweep/sweep_test.hpp"
 
+#include "doubt.hpp"  // (internal: detail::sweptEnvelope with another cap)
+
 #include <steady/core/ear.hpp>
 #include <steady/core/motion.hpp>
 
@@ -1046,6 +1048,66 @@ TEST(Envelope, DoubtfulEnvelopesAreSweptAgain) {
                 c.name, first.kept_wall_uncertified.size(), first.kept_wall_faces_uncertified.size(), env.resweeps,
                 env.tolerance / env.tessellation_tolerance, env.kept_wall_vertices);
   }
+}
+
+// Re-sweeps stop certifying an envelope past detail::kDoubtCap points deeper than eps, and
+// finish the certificates of the envelope they return (doubt.hpp). With the cap lowered to 1, so
+// that it matters on these small cases:
+// - the deep-kept-walls torus (first sweep: 1 vertex uncertified, then a clean re-sweep)
+//   returns the same envelope as with the normal cap;
+// - the thin-layers torus with max_steps 23, which lets the first sweep's grids through (they
+//   need 20 steps) but not the re-sweep's (27), returns its first sweep (2 face centroids
+//   uncertified, so the cap cuts its list), whose certificates must be complete: the same
+//   lists and bounds as that sweep measured in full (refinements = 0).
+TEST(Envelope, CertificatesGivenUpAreFinishedOnTheEnvelopeReturned) {
+  const Mesh m = torus(0.7, 0.25, 12, 6);
+  const auto expectSame = [](const Envelope& a, const Envelope& b, const char* name) {
+    EXPECT_EQ(a.vertices, b.vertices) << name;
+    EXPECT_EQ(a.triangles, b.triangles) << name;
+    EXPECT_EQ(a.resweeps, b.resweeps) << name;
+    EXPECT_EQ(a.tessellation_tolerance, b.tessellation_tolerance) << name;
+    EXPECT_EQ(a.kept_wall_vertices, b.kept_wall_vertices) << name;
+    EXPECT_EQ(a.kept_wall_uncertified, b.kept_wall_uncertified) << name;
+    EXPECT_EQ(a.kept_wall_faces_uncertified, b.kept_wall_faces_uncertified) << name;
+    EXPECT_EQ(a.kept_wall_depth_bound, b.kept_wall_depth_bound) << name;
+    EXPECT_EQ(a.cavity_vertices, b.cavity_vertices) << name;
+    EXPECT_EQ(a.cavity_uncertified, b.cavity_uncertified) << name;
+    EXPECT_EQ(a.cavity_faces_uncertified, b.cavity_faces_uncertified) << name;
+    EXPECT_EQ(a.cavity_depth_bound, b.cavity_depth_bound) << name;
+  };
+  {
+    const Motion3 motion = deepKeptWallsMotion();
+    SweepOptions o;
+    o.relative_tolerance = 2e-3;
+    const Envelope normal = sweptEnvelope(makeBody(m), motion, o);
+    const Envelope capped = steady::sweep::detail::sweptEnvelope(makeBody(m), motion, o, 1);
+    EXPECT_EQ(normal.resweeps, 1u) << "the first sweep leaves no doubt any more, or the re-sweep does: pick another case";
+    EXPECT_EQ(normal.kept_wall_uncertified.size() + normal.kept_wall_faces_uncertified.size(), 0u);
+    expectSame(capped, normal, "deep kept walls, cap 1");
+  }
+  {
+    const Motion3 motion = thinLayersMotion();
+    SweepOptions o;
+    o.relative_tolerance = 1e-3;
+    o.max_steps = 23;
+    SweepOptions finer = o;
+    finer.relative_tolerance = 5e-4;  // (eps_t = 1e-3 / 4, as the re-sweep's)
+    finer.refinements = 0;
+    EXPECT_TRUE(throwsError([&] { sweptEnvelope(makeBody(m), motion, finer); }, ErrorCode::InvalidArgument, "max_steps"))
+        << "the re-sweep's grids fit in 23 steps now: pick another max_steps";
+    SweepOptions full = o;
+    full.refinements = 0;
+    Envelope first = sweptEnvelope(makeBody(m), motion, full);
+    EXPECT_GE(first.kept_wall_uncertified.size() + first.kept_wall_faces_uncertified.size(), 2u)
+        << "the first sweep leaves less doubt than the cap of 1 can cut: pick another case";
+    o.refinements = 1;
+    const Envelope capped = steady::sweep::detail::sweptEnvelope(makeBody(m), motion, o, 1);
+    EXPECT_EQ(capped.resweeps, 1u);
+    first.resweeps = 1;  // (the re-sweep was tried)
+    expectSame(capped, first, "thin layers, cap 1, the re-sweep throws");
+  }
+  EXPECT_TRUE(throwsError([&] { steady::sweep::detail::sweptEnvelope(makeBody(m), thinLayersMotion(), {}, 0); },
+                          ErrorCode::InvalidArgument, "doubt_cap"));
 }
 
 // An envelope without doubt is not swept again (and passes its check); a negative refinements
