@@ -1105,6 +1105,9 @@ TEST(Envelope, CertificatesGivenUpAreFinishedOnTheEnvelopeReturned) {
     EXPECT_EQ(capped.resweeps, 1u);
     first.resweeps = 1;  // (the re-sweep was tried)
     expectSame(capped, first, "thin layers, cap 1, the re-sweep throws");
+    o.threads = 1;  // (where the measuring stops depends on the threads; what is returned must not)
+    expectSame(steady::sweep::detail::sweptEnvelope(makeBody(m), motion, o, 1), first,
+               "thin layers, cap 1, the re-sweep throws, one thread");
   }
   EXPECT_TRUE(throwsError([&] { steady::sweep::detail::sweptEnvelope(makeBody(m), thinLayersMotion(), {}, 0); },
                           ErrorCode::InvalidArgument, "doubt_cap"));
