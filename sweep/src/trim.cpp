@@ -4914,19 +4914,22 @@ void certifyDepths(Draft& draft, const SweptVolume& swept, int threads, std::siz
   const DepthTest certify{[&swept](const Vec& x) { return swept.contains(x); }, eps, swept.tolerance()};
   Doubt doubt;
   doubt.cap = cap;
-  const DepthBound kept = surfaceDepths(env.vertices, env.triangles, draft.kept, eps, swept, threads, doubt);
-  const DepthBound kept_faces = centroidDepths(env.vertices, env.triangles, draft.kept, certify, threads, doubt);
-  env.kept_wall_vertices = draft.kept.size();
-  env.kept_wall_depth_bound = std::max(kept.worst, kept_faces.worst);
-  env.kept_wall_uncertified = kept.beyond;
-  env.kept_wall_faces_uncertified = kept_faces.beyond;
-  const DepthBound cavity = surfaceDepths(env.vertices, env.triangles, draft.cavity, eps, swept, threads, doubt);
-  const DepthBound cavity_faces = centroidDepths(env.vertices, env.triangles, draft.cavity, certify, threads, doubt);
-  env.cavity_vertices = draft.cavity.size();
-  env.cavity_depth_bound = std::max(cavity.worst, cavity_faces.worst);
-  env.cavity_uncertified = cavity.beyond;
-  env.cavity_faces_uncertified = cavity_faces.beyond;
-  draft.partial = kept.partial || kept_faces.partial || cavity.partial || cavity_faces.partial;
+  draft.partial = false;
+  // (the vertices `which` and their faces' centroids: how many, the largest bound, those over ε)
+  auto measure = [&](const std::vector<int>& which, std::size_t& count, double& bound, std::vector<int>& vertices,
+                     std::vector<int>& faces) {
+    const DepthBound v = surfaceDepths(env.vertices, env.triangles, which, eps, swept, threads, doubt);
+    const DepthBound f = centroidDepths(env.vertices, env.triangles, which, certify, threads, doubt);
+    count = which.size();
+    bound = std::max(v.worst, f.worst);
+    vertices = v.beyond;
+    faces = f.beyond;
+    draft.partial = draft.partial || v.partial || f.partial;
+  };
+  measure(draft.kept, env.kept_wall_vertices, env.kept_wall_depth_bound, env.kept_wall_uncertified,
+          env.kept_wall_faces_uncertified);
+  measure(draft.cavity, env.cavity_vertices, env.cavity_depth_bound, env.cavity_uncertified,
+          env.cavity_faces_uncertified);
 }
 
 // `eps_t`: the tessellation tolerance of the cycle (kTessellationShare eps, or less on a re-sweep);
