@@ -16,11 +16,14 @@
 // is then body(0) + Σj Φj(∂(Frontj × [0, 1])): Q for the first span, and for every later one
 // Front(1) - Front(0) + strips (the start cap is Front at τ = 0, reversed, instead of Back),
 // with winding number 1 on body(0) plus the counts: >= 0, and >= 1 exactly on the swept volume.
-// At a joint the end cap of one span and the reversed start cap of the next are then the same
-// faces wherever both spans move them outward, and cancel (cancelOpposite). The caps of Q for
-// every span left a whole posed body at every joint instead, inside the swept volume but
-// crossed by the strips around it: on the elephant along the bundled bi-arc motion (112 spans)
-// 661k of the cycle's 998k triangles were caps, against 70k of 406k now.
+// At a joint the end cap of one span and the reversed start cap of the next lie in the same
+// posed faces, and their sum is emitted instead of both (appendSpanCycle, "Joints"): nothing
+// where both spans move a face outward, the part between the two spans' grazing chords where
+// they split it. The caps of Q for every span left a whole posed body at every joint instead,
+// inside the swept volume but crossed by the strips around it: on the elephant along the bundled
+// bi-arc motion (112 spans) 661k of the cycle's 998k triangles were caps, against 70k of 406k
+// when the caps of faces Front on both sides cancelled as identical triangles (cancelOpposite),
+// which they do only where no strip point lies on the face's edges.
 //
 // Construction. Corner values of g = n·v come from grazingSet() (snapped to 0 below eps_g);
 // only their signs and the affine interpolation between them decide what is front. On every
@@ -113,6 +116,7 @@ struct Corner {
   int point = -1;
   bool true_corner = true;
   bool zero = false;
+  int vertex = -1;  // its vertex of the cycle when known (a neighbour's point at a joint)
 };
 
 // The span's poses with its log cleaned of rounding noise: entries of M (and u) below 16 units
@@ -145,73 +149,158 @@ class CleanPoses {
   Eigen::Matrix4d X_;
 };
 
+// What of each face is front: all, nothing (Back and Grazing faces), or a part (Split).
+enum Part : char { kBack, kFront, kSplit };
+
+// Points placed exactly on the line through the τ = 0 vertices of points a and b (see "Strips
+// that slide along themselves" in appendSpanCycle).
+struct LinePlacement {
+  std::vector<int> pts;
+  int a = -1, b = -1;
+};
+
+// The time grid of one connected component of the boundary curves.
+struct Grid {
+  std::vector<double> tau;
+  std::vector<Affine3> pose;
+  std::vector<std::vector<Vec>> world;  // [row][local point]
+};
+
 }  // namespace
 
-void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affine3* end_given, double eps,
+struct SpanPlan {
+  explicit SpanPlan(const Span3& span) : clean(span) {}
+  const Body* body = nullptr;
+  int index = 0;
+  std::string where;
+  double eps = 0;
+  bool end_given = false;
+  GrazingSet gs;
+  CleanPoses clean;
+  Affine3 start, end_pose;
+  Eigen::Matrix3d M;
+  Vec u;
+  std::vector<char> part;                       // per face: a Part
+  std::vector<Vec> pt;                          // body-coordinate points (body vertices first)
+  std::vector<Where> on_body;                   // per point
+  std::vector<std::vector<EdgePoint>> on_edge;  // per edge: interior points, sorted by r
+  std::vector<std::array<int, 2>> zero;         // per edge: zero point of faces[i]'s g on it
+  std::vector<Segment> segs;                    // boundary segments of Front
+  std::vector<int> chord_segment;               // per face: its chord's segment, or -1
+  std::vector<int> comp_of, local;              // per point: component, index in it
+  std::vector<std::vector<int>> comp_points;    // per component: its points
+  std::vector<Grid> grids;                      // per component
+  std::vector<std::vector<int>> sub;            // per segment: interior points from p to q
+  std::vector<char> fixed;                      // per point: held fixed over the span
+  std::vector<LinePlacement> lines;             // in the order they are placed
+  // Per edge: no interior point of it is fixed or placed on a line, so the points of a
+  // neighbouring span can be inserted between its own (appendSpanCycle, "Joints").
+  std::vector<char> plain_edge;
+};
+
+void SpanPlanDelete::operator()(SpanPlan* plan) const { delete plan; }
+
+namespace {
+
+double cornerValue(const SpanPlan& plan, int f, int v) {
+  const auto& F = plan.body->faces();
+  for (int k = 0; k < 3; ++k)
+    if (F[f][k] == v) return plan.gs.corner_values[f][k];
+  return 0.0;
+}
+
+// The polygon of face f on one side (sign +1: front, -1: back) through its corners and zeros,
+// in the face's winding, without the points that only subdivide sides (added later).
+std::vector<Corner> sidePolygon(const SpanPlan& plan, int f, int sign) {
+  const auto& F = plan.body->faces();
+  const auto& E = plan.body->edges();
+  const auto& FE = plan.body->faceEdges();
+  std::vector<Corner> poly;
+  for (int k = 0; k < 3; ++k) {
+    const int v = F[f][k];
+    const double gk = plan.gs.corner_values[f][k], gn = plan.gs.corner_values[f][(k + 1) % 3];
+    if (sign * gk >= 0) poly.push_back({v, true, sgn(gk) == 0});
+    if (sgn(gk) * sgn(gn) < 0) {
+      const int e = FE[f][k];
+      poly.push_back({plan.zero[e][E[e].faces[0] == f ? 0 : 1], true, true});
+    }
+  }
+  return poly;
+}
+
+// Barycentric coordinates of point q (a vertex of face f, or a point on its edges or chord)
+// with respect to the corners of face f.
+std::array<double, 3> barycentric(const SpanPlan& plan, int q, int f) {
+  const auto& F = plan.body->faces();
+  std::array<double, 3> l{{0, 0, 0}};
+  // (a point made from others, such as a chord point from the chord's ends, takes theirs)
+  std::function<void(int, double)> add = [&](int v, double weight) {
+    for (int k = 0; k < 3; ++k)
+      if (F[f][k] == v) {
+        l[k] += weight;
+        return;
+      }
+    const Where& w = plan.on_body[v];
+    if (w.a < 0) return;
+    add(w.a, weight * (1.0 - w.s - w.t));
+    add(w.b, weight * w.s);
+    if (w.c >= 0) add(w.c, weight * w.t);
+  };
+  add(q, 1.0);
+  return l;
+}
+
+}  // namespace
+
+SpanPlanPtr planSpan(const Body& body, const Span3& span, const Affine3* end_given, double eps,
                      const GrazingOptions& grazing, int max_steps, int span_index) {
-  const GrazingSet gs = grazingSet(body, span, grazing);
-  const CleanPoses clean(span);
+  SpanPlanPtr plan(new SpanPlan(span));
+  SpanPlan& S = *plan;
+  S.body = &body;
+  S.index = span_index;
+  S.where = "sweptEnvelope: span " + std::to_string(span_index);
+  S.eps = eps;
+  S.end_given = end_given != nullptr;
+  S.gs = grazingSet(body, span, grazing);
   // The span's end is its key pose, as the joints are (the next span's start): exp(log A) at
   // τ = 1 carries the log's rounding, and the body at the end is the one the caller posed. A
   // half turn about the z axis through a face of the body (the bracket along screw.json, 1e-17
   // of input noise on the axis) left the end cap 3e-17 off the start cap's plane: the exact
   // trimming kept the void sliver between them, and rounding made its walls cross.
-  const Affine3 end_pose = end_given ? *end_given : span.relative() * span.start();
-  if (!end_pose.isFinite())
+  S.end_pose = end_given ? *end_given : span.relative() * span.start();
+  if (!S.end_pose.isFinite())
     throw Error(ErrorCode::NonFinite, "sweptEnvelope: the end pose of span " + std::to_string(span_index) +
                                           " is not finite");
-  // This span continues the previous one from the joint it left (Cycle::joint_vertex).
-  const bool continues = !out.joint_vertex.empty();
+  S.start = span.start();
+  S.M = span.log().M;
+  S.u = span.log().u;
+  const GrazingSet& gs = S.gs;
   const auto& P = body.vertices();
   const auto& F = body.faces();
   const auto& E = body.edges();
-  const auto& FE = body.faceEdges();
   const std::size_t nf = F.size(), ne = E.size();
-  const Affine3 start = span.start();
-  const Eigen::Matrix3d& M = span.log().M;
-  const Vec& u = span.log().u;
-  const std::string where = "sweptEnvelope: span " + std::to_string(span_index);
+  const Affine3& start = S.start;
+  const Eigen::Matrix3d& M = S.M;
+  const Vec& u = S.u;
+  const std::string& where = S.where;
 
   // Body-coordinate points: the body's vertices, then points on edges and chords.
-  std::vector<Vec> pt(P.begin(), P.end());
-  std::vector<Where> on_body(P.size());
+  std::vector<Vec>& pt = S.pt;
+  std::vector<Where>& on_body = S.on_body;
+  pt.assign(P.begin(), P.end());
+  on_body.assign(P.size(), Where{});
   auto addPoint = [&](const Vec& x, const Where& w) {
     pt.push_back(x);
     on_body.push_back(w);
     return static_cast<int>(pt.size()) - 1;
   };
-  // Barycentric coordinates of point q (a vertex of face f, or a point on its edges or chord)
-  // with respect to the corners of face f.
-  auto barycentric = [&](int q, int f) {
-    std::array<double, 3> l{{0, 0, 0}};
-    // (a point made from others, such as a chord point from the chord's ends, takes theirs)
-    std::function<void(int, double)> add = [&](int v, double weight) {
-      for (int k = 0; k < 3; ++k)
-        if (F[f][k] == v) {
-          l[k] += weight;
-          return;
-        }
-      const Where& w = on_body[v];
-      if (w.a < 0) return;
-      add(w.a, weight * (1.0 - w.s - w.t));
-      add(w.b, weight * w.s);
-      if (w.c >= 0) add(w.c, weight * w.t);
-    };
-    add(q, 1.0);
-    return l;
-  };
 
-  // What of each face is front: all, nothing (Back and Grazing faces), or a part (Split).
-  enum : char { kBack, kFront, kSplit };
-  std::vector<char> part(nf, kBack);
+  std::vector<char>& part = S.part;
+  part.assign(nf, kBack);
   if (!gs.stationary)
     for (std::size_t f = 0; f < nf; ++f)
       part[f] = gs.faces[f] == FaceClass::Front ? kFront : gs.faces[f] == FaceClass::Split ? kSplit : kBack;
-  auto g = [&](int f, int v) {
-    for (int k = 0; k < 3; ++k)
-      if (F[f][k] == v) return gs.corner_values[f][k];
-    return 0.0;
-  };
+  auto g = [&](int f, int v) { return cornerValue(S, f, v); };
   // Is face f front at parameter r of its edge (a, b)? (Affine interpolation of snapped values.)
   auto frontAt = [&](int f, int a, int b, double r) {
     if (part[f] != kSplit) return part[f] == kFront;
@@ -219,9 +308,11 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
   };
 
   // 1. Edges: zeros of the split faces' g, then the boundary pieces.
-  std::vector<std::vector<EdgePoint>> on_edge(ne);      // interior points, sorted by r
-  std::vector<std::array<int, 2>> zero(ne, {{-1, -1}});  // zero point of faces[i]'s g on e
-  std::vector<Segment> segs;
+  auto& on_edge = S.on_edge;
+  auto& zero = S.zero;
+  std::vector<Segment>& segs = S.segs;
+  on_edge.assign(ne, {});
+  zero.assign(ne, {{-1, -1}});
   for (std::size_t e = 0; e < ne; ++e) {
     const int a = E[e].vertices[0], b = E[e].vertices[1];
     std::array<double, 2> root{{-1, -1}};
@@ -261,26 +352,12 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
       segs.push_back(s);
     }
   }
-  auto zeroOn = [&](int f, int e) { return zero[e][E[e].faces[0] == f ? 0 : 1]; };
-
-  // The polygon of face f on one side (sign +1: front, -1: back) through its corners and zeros,
-  // in the face's winding, without the points that only subdivide sides (added later).
-  auto sidePolygon = [&](int f, int sign) {
-    std::vector<Corner> poly;
-    for (int k = 0; k < 3; ++k) {
-      const int v = F[f][k];
-      const double gk = gs.corner_values[f][k], gn = gs.corner_values[f][(k + 1) % 3];
-      if (sign * gk >= 0) poly.push_back({v, true, sgn(gk) == 0});
-      if (sgn(gk) * sgn(gn) < 0) poly.push_back({zeroOn(f, FE[f][k]), true, true});
-    }
-    return poly;
-  };
 
   // 2. Chords of split faces: from the front polygon's first zero to its second.
-  std::vector<int> chord_segment(nf, -1);
+  S.chord_segment.assign(nf, -1);
   for (std::size_t f = 0; f < nf; ++f) {
     if (part[f] != kSplit) continue;
-    const std::vector<Corner> poly = sidePolygon(static_cast<int>(f), +1);
+    const std::vector<Corner> poly = sidePolygon(S, static_cast<int>(f), +1);
     const std::size_t n = poly.size();
     for (std::size_t i = 0; i < n; ++i)
       if (poly[i].zero && poly[(i + 1) % n].zero) {
@@ -288,7 +365,7 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
         s.p = poly[i].point;
         s.q = poly[(i + 1) % n].point;
         s.face = static_cast<int>(f);
-        chord_segment[f] = static_cast<int>(segs.size());
+        S.chord_segment[f] = static_cast<int>(segs.size());
         segs.push_back(s);
         break;
       }
@@ -299,8 +376,11 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
   std::vector<int> parent(pt.size());
   std::iota(parent.begin(), parent.end(), 0);
   for (const Segment& s : segs) parent[findRoot(parent, s.p)] = findRoot(parent, s.q);
-  std::vector<int> comp_of(pt.size(), -1), local(pt.size(), -1);
-  std::vector<std::vector<int>> comp_points;
+  auto& comp_of = S.comp_of;
+  auto& local = S.local;
+  auto& comp_points = S.comp_points;
+  comp_of.assign(pt.size(), -1);
+  local.assign(pt.size(), -1);
   {
     std::vector<int> comp_of_root(pt.size(), -1);
     for (const Segment& s : segs)
@@ -317,14 +397,10 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
       }
   }
   auto poseAt = [&](double tau, bool first, bool last) {
-    return first ? start : last ? end_pose : clean(tau);
+    return first ? start : last ? S.end_pose : S.clean(tau);
   };
-  struct Grid {
-    std::vector<double> tau;
-    std::vector<Affine3> pose;
-    std::vector<std::vector<Vec>> world;  // [row][local point]
-  };
-  std::vector<Grid> grids(comp_points.size());
+  auto& grids = S.grids;
+  grids.resize(comp_points.size());
   for (std::size_t c = 0; c < comp_points.size(); ++c) {
     Grid& grid = grids[c];
     double tau = 0.0;
@@ -351,7 +427,8 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
   }
 
   // 4. Pieces per segment (condition (2)) and their subdivision points, which the caps share.
-  std::vector<std::vector<int>> sub(segs.size());  // interior points from p to q
+  auto& sub = S.sub;
+  sub.resize(segs.size());
   for (std::size_t j = 0; j < segs.size(); ++j) {
     Segment& s = segs[j];
     const Grid& grid = grids[comp_of[s.p]];
@@ -383,80 +460,16 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
   for (auto& list : on_edge)
     std::sort(list.begin(), list.end(), [](const EdgePoint& x, const EdgePoint& y) { return x.r < y.r; });
 
-  // Vertices of points at τ = 0 and τ = 1 (shared by caps and strips); fixed points keep one.
+  // Points held fixed: one vertex for all times.
   const std::size_t np = pt.size();
-  std::vector<int> id0(np, -1), id1(np, -1);
-  std::vector<char> fixed(np, 0);
+  S.fixed.assign(np, 0);
   for (std::size_t q = 0; q < np; ++q)
-    fixed[q] = !gs.stationary && (M * start(pt[q]) + u).norm() <= kFixedSpeed * gs.speed;
-  auto vertex = [&](const Vec& x) {
-    out.vertices.push_back(x);
-    out.exact.emplace_back();
-    return static_cast<int>(out.vertices.size()) - 1;
-  };
-  // A vertex at A + s (B - A) + t (C - A) of posed body vertices (ids of `out`, c < 0 for none).
-  auto combination = [&](int a, int b, int c, double s, double t) {
-    const Vec& A = out.vertices[a];
-    Vec x = A + s * (out.vertices[b] - A);
-    if (c >= 0) x += t * (out.vertices[c] - A);
-    out.vertices.push_back(x);
-    out.exact.push_back(ExactPosition{a, b, c, s, c >= 0 ? t : 0.0});
-    return static_cast<int>(out.vertices.size()) - 1;
-  };
-  // Joints. A span that starts where the previous one ended (Cycle::joint_vertex, joint_edge)
-  // starts from that span's end vertices for the same body points: body vertices by index, points
-  // on an edge by their edge parameter (merged within kMergeParameter, as the zeros of an edge's
-  // two faces are). So the caps and strips the two spans leave at the joint meet in identical
-  // exact points, also where the previous span moved its points onto a line (below).
-  if (!out.joint_vertex.empty()) {
-    for (std::size_t q = 0; q < np; ++q) {
-      const Where& w = on_body[q];
-      if (w.a < 0) {
-        id0[q] = out.joint_vertex[q];
-      } else if (w.edge >= 0) {
-        for (const auto& [r, v] : out.joint_edge[static_cast<std::size_t>(w.edge)])
-          if (std::abs(r - w.s) <= kMergeParameter) id0[q] = v;
-      }
-    }
-  }
-  std::function<int(int)> at0, at1;
-  at0 = [&](int q) {
-    if (id0[q] < 0) {
-      const Where& w = on_body[q];
-      id0[q] = w.a < 0 ? vertex(start(pt[q])) : combination(at0(w.a), at0(w.b), w.c < 0 ? -1 : at0(w.c), w.s, w.t);
-    }
-    return id0[q];
-  };
-  at1 = [&](int q) {
-    if (fixed[q]) return at0(q);
-    if (id1[q] < 0) {
-      const Where& w = on_body[q];
-      id1[q] = w.a < 0 ? vertex(end_pose(pt[q])) : combination(at1(w.a), at1(w.b), w.c < 0 ? -1 : at1(w.c), w.s, w.t);
-    }
-    return id1[q];
-  };
+    S.fixed[q] = !gs.stationary && (M * start(pt[q]) + u).norm() <= kFixedSpeed * gs.speed;
 
-  // Strips that slide along themselves. A boundary segment on a line that the motion keeps
-  // invariant (a face containing a screw axis while the span rises or scales along it) sweeps
-  // no area, but its vertices, computed a few ulps off that line, make a sliver ribbon whose
-  // exact arrangement rounds into edges with four faces (or faces that cross). A segment is flat
-  // when every row of its two ends lies within kOnLine ε of the line through its τ = 0 ends.
-  // Flat segments that share points (a run of mesh edges along the axis) form a group, and the
-  // whole group gets one line, through its two τ = 0 ends farthest apart, provided every row of
-  // every end of the group lies within kOnLine ε of it: body vertices along the axis are rarely
-  // exactly collinear (input noise of 1e-17), and a point shared by two segments placed on either
-  // segment's own line would leave the other segment's strip a ribbon of slivers. All of the
-  // group's vertices are then placed exactly on that line (ExactPosition on the two anchors): at
-  // τ = 0 every point but the anchors (unless the previous span left it at the joint, or it was
-  // already placed), at the interior rows, and at τ = 1, so that its triangles have no area and
-  // drop out of the arrangement. A group that is not within reach of one line keeps one line per
-  // segment (a point shared by two of them stays on the first). Vertices move by at most kOnLine ε.
-  std::vector<std::array<int, 2>> line_of(np, {{-1, -1}});  // anchors (vertex ids) of the line
-  auto onLine = [&](int q, const Vec& x) {
-    const Vec& A = out.vertices[line_of[q][0]];
-    const Vec d = out.vertices[line_of[q][1]] - A;
-    return combination(line_of[q][0], line_of[q][1], -1, (x - A).dot(d) / d.squaredNorm(), 0.0);
-  };
+  // Strips that slide along themselves: which points go on which line (appendSpanCycle places
+  // them). A segment is flat when every row of its two ends lies within kOnLine ε of the line
+  // through its τ = 0 ends; flat segments that share points form a group with one line when
+  // every row of every end of the group is within reach of it, else one line per segment.
   const double line_tol = kOnLine * eps;
   // Is every row of the points `ends` (of one grid) within line_tol of the line through the τ = 0
   // positions of points a and b?
@@ -468,16 +481,6 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
       for (int q : ends)
         if (!((row[local[q]] - A).cross(d).norm() <= line_tol * d.norm())) return false;
     return true;
-  };
-  // Places the points `pts` on the line through the τ = 0 vertices of points a and b.
-  auto placeOnLine = [&](const std::vector<int>& pts, int a, int b) {
-    const std::array<int, 2> anchors{{at0(a), at0(b)}};
-    for (int q : pts)
-      if (line_of[q][0] < 0) line_of[q] = anchors;
-    for (int q : pts)
-      if (q != a && q != b && id0[q] < 0 && line_of[q] == anchors) id0[q] = onLine(q, start(pt[q]));
-    for (int q : pts)
-      if (!fixed[q] && id1[q] < 0) id1[q] = onLine(q, end_pose(pt[q]));
   };
   {
     std::vector<int> flat_parent(np);
@@ -513,29 +516,231 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
           if (d2 > widest) widest = d2, a = ends[i], b = ends[k];
         }
       if (alongLine(grid, a, b, ends)) {
-        std::vector<int> pts = ends;
-        for (int j : group) pts.insert(pts.end(), sub[j].begin(), sub[j].end());
-        placeOnLine(pts, a, b);
+        LinePlacement line{ends, a, b};
+        for (int j : group) line.pts.insert(line.pts.end(), sub[j].begin(), sub[j].end());
+        S.lines.push_back(std::move(line));
       } else {
         for (int j : group) {
-          std::vector<int> pts{segs[j].p, segs[j].q};
-          pts.insert(pts.end(), sub[j].begin(), sub[j].end());
-          placeOnLine(pts, segs[j].p, segs[j].q);
+          LinePlacement line{{segs[j].p, segs[j].q}, segs[j].p, segs[j].q};
+          line.pts.insert(line.pts.end(), sub[j].begin(), sub[j].end());
+          S.lines.push_back(std::move(line));
         }
       }
     }
   }
+  std::vector<char> lined(np, 0);
+  for (const LinePlacement& line : S.lines)
+    for (int q : line.pts) lined[q] = 1;
+  S.plain_edge.assign(ne, 1);
+  for (std::size_t e = 0; e < ne; ++e)
+    for (const EdgePoint& ep : on_edge[e])
+      if (S.fixed[ep.point] || lined[ep.point]) S.plain_edge[e] = 0;
+  return plan;
+}
+
+void appendSpanCycle(Cycle& out, const SpanPlan* prev, const SpanPlan& plan, const SpanPlan* next) {
+  const Body& body = *plan.body;
+  // This span continues the previous one from the joint it left (Cycle::joint_vertex).
+  const bool continues = prev != nullptr;
+  if (continues == out.joint_vertex.empty() || (next && !plan.end_given))
+    throw Error(ErrorCode::InvalidArgument, plan.where + ": appendSpanCycle called out of turn (" +
+                                                (continues ? "no joint left by the span before" : "a joint left over") +
+                                                "); append a polySAM's spans in order");
+  const auto& F = body.faces();
+  const auto& E = body.edges();
+  const auto& FE = body.faceEdges();
+  const std::size_t nf = F.size(), ne = E.size();
+  const Affine3& start = plan.start;
+  const Affine3& end_pose = plan.end_pose;
+  const std::vector<char>& part = plan.part;
+  const std::vector<Vec>& pt = plan.pt;
+  const std::vector<Where>& on_body = plan.on_body;
+  const auto& on_edge = plan.on_edge;
+  const std::vector<Segment>& segs = plan.segs;
+  const auto& local = plan.local;
+  const auto& comp_of = plan.comp_of;
+  const auto& comp_points = plan.comp_points;
+  const std::vector<Grid>& grids = plan.grids;
+  const auto& sub = plan.sub;
+  const std::vector<char>& fixed = plan.fixed;
+  const std::size_t np = pt.size();
+
+  // Vertices of points at τ = 0 and τ = 1 (shared by caps and strips); fixed points keep one.
+  std::vector<int> id0(np, -1), id1(np, -1);
+  auto vertex = [&](const Vec& x) {
+    out.vertices.push_back(x);
+    out.exact.emplace_back();
+    return static_cast<int>(out.vertices.size()) - 1;
+  };
+  // A vertex at A + s (B - A) + t (C - A) of posed body vertices (ids of `out`, c < 0 for none).
+  auto combination = [&](int a, int b, int c, double s, double t) {
+    const Vec& A = out.vertices[a];
+    Vec x = A + s * (out.vertices[b] - A);
+    if (c >= 0) x += t * (out.vertices[c] - A);
+    out.vertices.push_back(x);
+    out.exact.push_back(ExactPosition{a, b, c, s, c >= 0 ? t : 0.0});
+    return static_cast<int>(out.vertices.size()) - 1;
+  };
+  // Joints. A span that starts where the previous one ended (Cycle::joint_vertex, joint_edge)
+  // starts from that span's end vertices for the same body points: body vertices by index, points
+  // on an edge by their edge parameter (merged within kMergeParameter, as the zeros of an edge's
+  // two faces are). So the caps and strips the two spans leave at the joint meet in identical
+  // exact points, also where the previous span moved its points onto a line (below).
+  if (continues) {
+    for (std::size_t q = 0; q < np; ++q) {
+      const Where& w = on_body[q];
+      if (w.a < 0) {
+        id0[q] = out.joint_vertex[q];
+      } else if (w.edge >= 0) {
+        for (const auto& [r, v] : out.joint_edge[static_cast<std::size_t>(w.edge)])
+          if (std::abs(r - w.s) <= kMergeParameter) id0[q] = v;
+      }
+    }
+  }
+  std::function<int(int)> at0, at1;
+  at0 = [&](int q) {
+    if (id0[q] < 0) {
+      const Where& w = on_body[q];
+      id0[q] = w.a < 0 ? vertex(start(pt[q])) : combination(at0(w.a), at0(w.b), w.c < 0 ? -1 : at0(w.c), w.s, w.t);
+    }
+    return id0[q];
+  };
+  at1 = [&](int q) {
+    if (fixed[q]) return at0(q);
+    if (id1[q] < 0) {
+      const Where& w = on_body[q];
+      id1[q] = w.a < 0 ? vertex(end_pose(pt[q])) : combination(at1(w.a), at1(w.b), w.c < 0 ? -1 : at1(w.c), w.s, w.t);
+    }
+    return id1[q];
+  };
+
+  // Strips that slide along themselves. A boundary segment on a line that the motion keeps
+  // invariant (a face containing a screw axis while the span rises or scales along it) sweeps
+  // no area, but its vertices, computed a few ulps off that line, make a sliver ribbon whose
+  // exact arrangement rounds into edges with four faces (or faces that cross). The plan groups
+  // such flat segments (SpanPlan::lines): body vertices along the axis are rarely exactly
+  // collinear (input noise of 1e-17), and a point shared by two segments placed on either
+  // segment's own line would leave the other segment's strip a ribbon of slivers. All of a
+  // group's vertices are placed exactly on its line (ExactPosition on the two anchors): at
+  // τ = 0 every point but the anchors (unless the previous span left it at the joint, or it was
+  // already placed), at the interior rows, and at τ = 1, so that its triangles have no area and
+  // drop out of the arrangement. A point shared by two lines stays on the first. Vertices move by
+  // at most kOnLine ε.
+  std::vector<std::array<int, 2>> line_of(np, {{-1, -1}});  // anchors (vertex ids) of the line
+  auto onLine = [&](int q, const Vec& x) {
+    const Vec& A = out.vertices[line_of[q][0]];
+    const Vec d = out.vertices[line_of[q][1]] - A;
+    return combination(line_of[q][0], line_of[q][1], -1, (x - A).dot(d) / d.squaredNorm(), 0.0);
+  };
+  for (const LinePlacement& line : plan.lines) {
+    const std::array<int, 2> anchors{{at0(line.a), at0(line.b)}};
+    for (int q : line.pts)
+      if (line_of[q][0] < 0) line_of[q] = anchors;
+    for (int q : line.pts)
+      if (q != line.a && q != line.b && id0[q] < 0 && line_of[q] == anchors) id0[q] = onLine(q, start(pt[q]));
+    for (int q : line.pts)
+      if (!fixed[q] && id1[q] < 0) id1[q] = onLine(q, end_pose(pt[q]));
+  }
   // A strip vertex at an interior row: on its line when it has one.
   auto rowVertex = [&](int q, const Vec& x) { return line_of[q][0] >= 0 ? onLine(q, x) : vertex(x); };
 
-  // 5. Caps: Back (and Grazing) polygons at τ = 0 (reversed Front polygons when the span
+  // 5. Joints: the points of both spans on the edges at a joint. At a joint with a neighbour
+  // (side 0: τ = 0, the span before; side 1: τ = 1, the span after), an edge that is plain in
+  // both spans (SpanPlan::plain_edge) holds the neighbour's points between its own: the caps and
+  // the strips at the joint pass through all of them, on both sides. Each side's cycle stays
+  // closed, and a face's caps on the two sides of the joint then have the same polygon, so the
+  // joint's sum of caps can be emitted as it is: nothing where both spans move the face outward
+  // (the caps cancel), the Back side of the chord where one of them splits it (below). Before,
+  // each span fanned its caps through its own points: on the tetrahedron along
+  // data/motions/keys.json all 21,444 cap triangles (31% of the cycle) stayed, and every
+  // coplanar crossing pair of its arrangement was one cap against another.
+  // The neighbour's points lie exactly on the posed edge (ExactPosition on its two end vertices,
+  // which both spans share), as the span's own points there do, so they subdivide the edge
+  // without moving it. A neighbour's point within kMergeParameter of one of the span's own is
+  // that point.
+  struct Extra {
+    double r = 0;
+    int vid = -1;  // vertex of `out` (side 1: made when first needed)
+  };
+  std::array<std::vector<std::vector<Extra>>, 2> extra;
+  auto shared = [&](const SpanPlan* nb, std::size_t e) {
+    return nb != nullptr && plan.plain_edge[e] && nb->plain_edge[e];
+  };
+  auto own = [&](std::size_t e, double r) {
+    for (const EdgePoint& ep : on_edge[e])
+      if (std::abs(ep.r - r) <= kMergeParameter) return true;
+    return false;
+  };
+  for (int side = 0; side < 2; ++side) {
+    const SpanPlan* nb = side == 0 ? prev : next;
+    if (!nb) continue;
+    extra[side].resize(ne);
+    for (std::size_t e = 0; e < ne; ++e) {
+      if (!shared(nb, e)) continue;
+      if (side == 0) {
+        for (const auto& [r, v] : out.joint_edge[e])
+          if (!own(e, r)) extra[0][e].push_back({r, v});
+      } else {
+        for (const EdgePoint& ep : nb->on_edge[e])
+          if (!own(e, ep.r)) extra[1][e].push_back({ep.r, -1});
+      }
+      std::sort(extra[side][e].begin(), extra[side][e].end(), [](const Extra& x, const Extra& y) { return x.r < y.r; });
+    }
+  }
+  // Does every edge of face f hold the points of both spans at the joint with `nb`?
+  auto merged = [&](const SpanPlan* nb, int f) {
+    for (int k = 0; k < 3; ++k)
+      if (!shared(nb, static_cast<std::size_t>(FE[f][k]))) return false;
+    return true;
+  };
+  // A chord met again: where the span before left a face split by a chord with the same ends
+  // (the same vertices) and as many points, running the same way, its points are this chord's
+  // (both are the same combinations of the same ends), so the chords cancel at the joint.
+  if (continues)
+    for (std::size_t f = 0; f < nf; ++f) {
+      const std::vector<int>& before = out.joint_chord[f];
+      if (before.empty() || part[f] != kSplit || !merged(prev, static_cast<int>(f))) continue;
+      const Segment& s = segs[plan.chord_segment[f]];
+      const std::vector<int>& points = sub[plan.chord_segment[f]];
+      if (before.size() != points.size() + 2 || before.front() != at0(s.p) || before.back() != at0(s.q)) continue;
+      for (std::size_t k = 0; k < points.size(); ++k)
+        if (id0[points[k]] < 0) id0[points[k]] = before[k + 1];
+    }
+  // The points strictly between edge parameters r0 and r1 of edge e at `side`, with their
+  // parameters, in order from r0 to r1: the span's own points and the neighbour's.
+  auto pointsBetween = [&](int e, double r0, double r1, int side) {
+    const double lo = std::min(r0, r1), hi = std::max(r0, r1);
+    std::vector<std::pair<double, Corner>> found;
+    for (const EdgePoint& ep : on_edge[e])
+      if (ep.r > lo && ep.r < hi) found.push_back({ep.r, Corner{ep.point, false, false}});
+    if (!extra[side].empty())
+      for (Extra& x : extra[side][e])
+        if (x.r > lo && x.r < hi) {
+          if (x.vid < 0) {  // (side 1: on the edge at τ = 1)
+            const int a = E[e].vertices[0], b = E[e].vertices[1];
+            x.vid = combination(at1(a), at1(b), -1, x.r, 0.0);
+          }
+          found.push_back({x.r, Corner{-1, false, false, x.vid}});
+        }
+    std::sort(found.begin(), found.end(), [&](const auto& x, const auto& y) {
+      return r0 < r1 ? x.first < y.first : x.first > y.first;
+    });
+    return found;
+  };
+  // ... appended to `list`.
+  auto between = [&](int e, double r0, double r1, int side, std::vector<Corner>& list) {
+    for (const auto& f : pointsBetween(e, r0, r1, side)) list.push_back(f.second);
+  };
+
+  // 6. Caps: Back (and Grazing) polygons at τ = 0 (reversed Front polygons when the span
   // continues a polySAM), Front polygons at τ = 1, with every point that lies on their sides,
   // fanned into triangles (`reversed`: against the polygon's winding).
-  auto emitPolygon = [&](int f, std::vector<Corner> poly, bool at_end, bool reversed) {
+  auto emitPolygon = [&](int f, const std::vector<Corner>& poly, bool at_end, bool reversed) {
     auto emit = [&](int a, int b, int c) {
       out.triangles.push_back(reversed ? std::array<int, 3>{{a, c, b}} : std::array<int, 3>{{a, b, c}});
       ++out.cap_triangles;
     };
+    const int side = at_end ? 1 : 0;
     // Insert the points that subdivide the sides: along face edges, and along the chord.
     std::vector<Corner> full;
     const std::size_t n = poly.size();
@@ -544,8 +749,8 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
       const Corner& y = poly[(i + 1) % n];
       full.push_back(x);
       if (x.zero && y.zero && part[f] == kSplit) {  // the chord
-        const Segment& s = segs[chord_segment[f]];
-        const auto& list = sub[chord_segment[f]];
+        const Segment& s = segs[plan.chord_segment[f]];
+        const auto& list = sub[plan.chord_segment[f]];
         if (s.p == x.point)
           for (int q : list) full.push_back({q, false, false});
         else
@@ -565,29 +770,22 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
         };
         double rx = 0, ry = 0;
         if (!param(x.point, rx) || !param(y.point, ry)) continue;
-        if (rx < ry) {
-          for (const EdgePoint& ep : on_edge[e])
-            if (ep.r > rx && ep.r < ry) full.push_back({ep.point, false, false});
-        } else {
-          for (auto it = on_edge[e].rbegin(); it != on_edge[e].rend(); ++it)
-            if (it->r < rx && it->r > ry) full.push_back({it->point, false, false});
-        }
+        between(e, rx, ry, side, full);
         break;
       }
     }
-    auto id = [&](int q) { return at_end ? at1(q) : at0(q); };
+    auto id = [&](const Corner& c) { return c.vertex >= 0 ? c.vertex : at_end ? at1(c.point) : at0(c.point); };
     const std::size_t m = full.size();
     const bool plain = std::all_of(full.begin(), full.end(), [](const Corner& c) { return c.true_corner; });
     if (m == 3) {
-      emit(id(full[0].point), id(full[1].point), id(full[2].point));
+      emit(id(full[0]), id(full[1]), id(full[2]));
       return;
     }
     if (plain && m == 4) {  // a convex quad: split along its shorter diagonal
       const double d02 = (pt[full[0].point] - pt[full[2].point]).squaredNorm();
       const double d13 = (pt[full[1].point] - pt[full[3].point]).squaredNorm();
       const int o = d02 <= d13 ? 0 : 1;
-      const int a = id(full[o].point), b = id(full[o + 1].point), c = id(full[o + 2].point),
-                d = id(full[(o + 3) % 4].point);
+      const int a = id(full[o]), b = id(full[o + 1]), c = id(full[o + 2]), d = id(full[(o + 3) % 4]);
       emit(a, b, c);
       emit(a, c, d);
       return;
@@ -598,35 +796,136 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
     std::vector<int> corners;
     for (const Corner& c : full)
       if (c.true_corner) corners.push_back(c.point);
-    const auto lA = barycentric(corners[0], f), lC = barycentric(corners[2], f);
+    const auto lA = barycentric(plan, corners[0], f), lC = barycentric(plan, corners[2], f);
     std::array<double, 3> l{};
     if (corners.size() >= 4) {
       for (int k = 0; k < 3; ++k) l[k] = 0.5 * (lA[k] + lC[k]);
     } else {
-      const auto lB = barycentric(corners[1], f);
+      const auto lB = barycentric(plan, corners[1], f);
       for (int k = 0; k < 3; ++k) l[k] = 0.5 * (lA[k] + 0.5 * (lB[k] + lC[k]));
     }
-    const int cv = combination(id(F[f][0]), id(F[f][1]), id(F[f][2]), l[1], l[2]);
-    for (std::size_t i = 0; i < m; ++i) emit(cv, id(full[i].point), id(full[(i + 1) % m].point));
+    auto pose = [&](int q) { return at_end ? at1(q) : at0(q); };
+    const int cv = combination(pose(F[f][0]), pose(F[f][1]), pose(F[f][2]), l[1], l[2]);
+    for (std::size_t i = 0; i < m; ++i) emit(cv, id(full[i]), id(full[(i + 1) % m]));
   };
+  // A face split in both spans at a joint whose edges all hold both spans' points (see 5): the
+  // sum of the end cap of the span before (+ its Front part) and the reversed start cap of the
+  // span after (- its Front part) is bounded by the chord before, the chord after (reversed),
+  // and the pieces of the face's edges that are Front in one span only; the pieces Front in both
+  // cancel. The span after emits it at τ = 0, one fan per closed loop of that boundary, around
+  // the mean of the loop's points (placed exactly in the posed face's plane): where the chords
+  // do not cross inside the face each loop bounds a convex region; where they cross, the one
+  // loop's fan overlaps itself, which the arrangement resolves. The span before leaves its
+  // chord's vertices at τ = 1 in Cycle::joint_chord.
+  auto emitSplitJoint = [&](int f) {
+    std::vector<std::array<int, 2>> edges;  // the boundary, as directed edges
+    const std::vector<int>& before = out.joint_chord[static_cast<std::size_t>(f)];
+    for (std::size_t k = 0; k + 1 < before.size(); ++k) edges.push_back({{before[k], before[k + 1]}});
+    {
+      const Segment& s = segs[plan.chord_segment[f]];
+      std::vector<int> chord{at0(s.p)};
+      for (int q : sub[plan.chord_segment[f]]) chord.push_back(at0(q));
+      chord.push_back(at0(s.q));
+      for (std::size_t k = 0; k + 1 < chord.size(); ++k) edges.push_back({{chord[k + 1], chord[k]}});
+    }
+    for (int k = 0; k < 3; ++k) {
+      const int e = FE[f][k];
+      const int a = E[e].vertices[0], b = E[e].vertices[1];
+      const double r0 = F[f][k] == a ? 0.0 : 1.0;
+      std::vector<std::pair<double, Corner>> pts = pointsBetween(e, r0, 1.0 - r0, 0);
+      pts.insert(pts.begin(), {r0, Corner{F[f][k], true, false}});
+      pts.push_back({1.0 - r0, Corner{F[f][(k + 1) % 3], true, false}});
+      for (std::size_t i = 0; i + 1 < pts.size(); ++i) {
+        const double mid = 0.5 * (pts[i].first + pts[i + 1].first);
+        auto frontIn = [&](const SpanPlan& S) { return (1 - mid) * cornerValue(S, f, a) + mid * cornerValue(S, f, b) > 0; };
+        const bool was = frontIn(*prev), is = frontIn(plan);
+        if (was == is) continue;
+        const int x = pts[i].second.vertex >= 0 ? pts[i].second.vertex : at0(pts[i].second.point);
+        const int y = pts[i + 1].second.vertex >= 0 ? pts[i + 1].second.vertex : at0(pts[i + 1].second.point);
+        edges.push_back(was ? std::array<int, 2>{{x, y}} : std::array<int, 2>{{y, x}});
+      }
+    }
+    // Closed loops of the boundary (each vertex has as many edges in as out).
+    const int A = at0(F[f][0]), B = at0(F[f][1]), C = at0(F[f][2]);
+    const Vec& pa = out.vertices[A];
+    const Vec u1 = out.vertices[B] - pa, u2 = out.vertices[C] - pa;
+    const double g11 = u1.dot(u1), g12 = u1.dot(u2), g22 = u2.dot(u2), det = g11 * g22 - g12 * g12;
+    std::vector<char> used(edges.size(), 0);
+    for (std::size_t first = 0; first < edges.size(); ++first) {
+      if (used[first]) continue;
+      std::vector<int> loop;
+      for (std::size_t k = first;;) {
+        used[k] = 1;
+        loop.push_back(edges[k][0]);
+        const int to = edges[k][1];
+        if (to == edges[first][0]) break;
+        std::size_t n = 0;
+        while (n < edges.size() && (used[n] || edges[n][0] != to)) ++n;
+        if (n == edges.size())
+          throw Error(ErrorCode::InvalidArgument, plan.where + ": the caps of face " + std::to_string(f) +
+                                                      " at its joint do not close (an internal error; please report it)");
+        k = n;
+      }
+      if (loop.size() < 3) continue;  // (x to y and back: nothing)
+      Vec mean = Vec::Zero();
+      for (int v : loop) mean += out.vertices[v];
+      mean /= static_cast<double>(loop.size());
+      const Vec d = mean - pa;
+      const double b1 = u1.dot(d), b2 = u2.dot(d);
+      const int cv = combination(A, B, C, (g22 * b1 - g12 * b2) / det, (g11 * b2 - g12 * b1) / det);
+      for (std::size_t k = 0; k < loop.size(); ++k) {
+        out.triangles.push_back({{cv, loop[k], loop[(k + 1) % loop.size()]}});
+        ++out.cap_triangles;
+      }
+    }
+  };
+  // A face's caps at a joint whose edges all hold both spans' points (see 5): the end cap of the
+  // span before (+ its Front part) and the reversed start cap of the span after (- its Front
+  // part) sum to nothing when the face is Front in both, to + the Back part of the span after
+  // when it is Front before and split after, and to - the Back part of the span before when it
+  // is split before and Front after. Each sum is emitted by the span that holds the split.
+  std::vector<std::vector<int>> joint_chord(next ? nf : 0);  // for the span after (Cycle::joint_chord)
   for (std::size_t f = 0; f < nf; ++f) {
     const int fi = static_cast<int>(f);
-    if (part[f] == kSplit) {
-      emitPolygon(fi, sidePolygon(fi, continues ? +1 : -1), false, continues);
-      emitPolygon(fi, sidePolygon(fi, +1), true, false);
-      continue;
-    }
     const std::vector<Corner> whole{{F[f][0], true, false}, {F[f][1], true, false}, {F[f][2], true, false}};
-    if (part[f] == kFront) {
-      if (continues) emitPolygon(fi, whole, false, true);
-      emitPolygon(fi, whole, true, false);
-    } else if (!continues) {
-      emitPolygon(fi, whole, false, false);
+    // τ = 0
+    if (!continues) {
+      if (part[f] == kSplit) emitPolygon(fi, sidePolygon(plan, fi, -1), false, false);
+      if (part[f] == kBack) emitPolygon(fi, whole, false, false);
+    } else {
+      const char before = merged(prev, fi) ? prev->part[f] : static_cast<char>(kBack);
+      if (part[f] == kFront && before == kBack) emitPolygon(fi, whole, false, true);
+      if (part[f] == kSplit) {
+        if (before == kFront)
+          emitPolygon(fi, sidePolygon(plan, fi, -1), false, false);
+        else if (before == kSplit)
+          emitSplitJoint(fi);
+        else
+          emitPolygon(fi, sidePolygon(plan, fi, +1), false, true);
+      }
+    }
+    // τ = 1
+    const char after = next && merged(next, fi) ? next->part[f] : static_cast<char>(kBack);
+    if (part[f] == kFront && after == kBack) emitPolygon(fi, whole, true, false);
+    if (part[f] == kSplit) {
+      if (after == kFront) {
+        emitPolygon(fi, sidePolygon(plan, fi, -1), true, true);
+      } else if (after == kSplit) {  // (the span after emits the sum)
+        const Segment& s = segs[plan.chord_segment[f]];
+        std::vector<int>& chord = joint_chord[f];
+        chord.push_back(at1(s.p));
+        for (int q : sub[plan.chord_segment[f]]) chord.push_back(at1(q));
+        chord.push_back(at1(s.q));
+      } else {
+        emitPolygon(fi, sidePolygon(plan, fi, +1), true, false);
+      }
     }
   }
 
-  // 6. Strips: vertices of the component points at the interior grid rows, then two triangles
-  // per cell, oriented so that the strip's τ = 1 side runs against the Front polygon's.
+  // 7. Strips: vertices of the component points at the interior grid rows, then two triangles
+  // per cell, oriented so that the strip's τ = 1 side runs against the Front polygon's. At a
+  // joint a cell's side on the edge holds the neighbour's points too (see 5): the cell is then
+  // fanned from its corners, the same triangle cut into pieces.
   std::vector<std::vector<std::vector<int>>> rows(grids.size());  // [comp][row][local]
   for (std::size_t c = 0; c < grids.size(); ++c) {
     const std::size_t K = grids[c].tau.size() - 1;
@@ -637,13 +936,16 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
         rows[c][k].push_back(k == 0 || fixed[q] ? at0(q) : k == K ? at1(q) : rowVertex(q, grids[c].world[k][i]));
       }
   }
+  std::vector<Corner> below, above;
   for (std::size_t j = 0; j < segs.size(); ++j) {
     const Segment& s = segs[j];
     const int c = comp_of[s.p];
     const Grid& grid = grids[c];
     const std::size_t K = grid.tau.size() - 1;
     const std::size_t m = sub[j].size() + 1;
-    std::vector<int> prev, cur(m + 1);
+    // Edge parameter of the row's i-th point (edge pieces only).
+    auto rAt = [&](std::size_t i) { return i == 0 ? s.rp : i == m ? s.rq : on_body[sub[j][i - 1]].s; };
+    std::vector<int> prev_row, cur(m + 1);
     for (std::size_t k = 0; k <= K; ++k) {
       cur[0] = rows[c][k][local[s.p]];
       cur[m] = rows[c][k][local[s.q]];
@@ -653,22 +955,41 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
       }
       if (k > 0)
         for (std::size_t i = 0; i < m; ++i) {
-          const std::array<std::array<int, 3>, 2> cell{{{{prev[i], prev[i + 1], cur[i + 1]}},
-                                                        {{prev[i], cur[i + 1], cur[i]}}}};
-          for (const auto& t : cell) {
-            if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) continue;  // a fixed point's cell
+          // The cell's lower side from prev_row[i] to prev_row[i + 1], its upper side from cur[i]
+          // to cur[i + 1], each with the neighbour's points at a joint.
+          below.assign(1, Corner{-1, false, false, prev_row[i]});
+          above.assign(1, Corner{-1, false, false, cur[i]});
+          if (s.edge >= 0 && k == 1) between(s.edge, rAt(i), rAt(i + 1), 0, below);
+          if (s.edge >= 0 && k == K) between(s.edge, rAt(i), rAt(i + 1), 1, above);
+          below.push_back(Corner{-1, false, false, prev_row[i + 1]});
+          above.push_back(Corner{-1, false, false, cur[i + 1]});
+          // (a segment's own points on its edge are all in its row: only the neighbour's are
+          // between two of them)
+          for (Corner& x : below)
+            if (x.vertex < 0) x.vertex = at0(x.point);
+          for (Corner& x : above)
+            if (x.vertex < 0) x.vertex = at1(x.point);
+          auto add = [&](const std::array<int, 3>& t) {
+            if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) return;  // a fixed point's cell
             out.triangles.push_back(t);
             ++out.strip_triangles;
-          }
+          };
+          for (std::size_t b = 0; b + 1 < below.size(); ++b)
+            add({{below[b].vertex, below[b + 1].vertex, cur[i + 1]}});
+          for (std::size_t a = 0; a + 1 < above.size(); ++a)
+            add({{prev_row[i], above[a + 1].vertex, above[a].vertex}});
         }
-      prev = cur;
+      prev_row = cur;
     }
   }
 
-  // The joint for the next span (see Cycle::joint_vertex), or none.
+  // The joint for the next span (see Cycle::joint_vertex), or none; with the points of the next
+  // span that this one placed on its edges (5).
   out.joint_vertex.clear();
   out.joint_edge.clear();
-  if (end_given) {
+  out.joint_chord = std::move(joint_chord);
+  if (next) {
+    const auto& P = body.vertices();
     auto endVertex = [&](std::size_t q) { return fixed[q] ? id0[q] : id1[q]; };
     out.joint_vertex.resize(P.size());
     out.joint_edge.resize(ne);
@@ -676,6 +997,9 @@ void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affi
     for (std::size_t q = P.size(); q < np; ++q)
       if (on_body[q].edge >= 0 && endVertex(q) >= 0)
         out.joint_edge[static_cast<std::size_t>(on_body[q].edge)].emplace_back(on_body[q].s, endVertex(q));
+    for (std::size_t e = 0; e < ne; ++e)
+      for (const Extra& x : extra[1][e])
+        if (x.vid >= 0) out.joint_edge[e].emplace_back(x.r, x.vid);
   }
 }
 

@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstddef>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -41,31 +42,51 @@ struct Cycle {
   // "Strips that slide along themselves"). Empty after a span appended without `end_pose`.
   std::vector<int> joint_vertex;
   std::vector<std::vector<std::pair<double, int>>> joint_edge;
+  // Per body face split by a grazing chord both at the end of that span and at the start of the
+  // next, when their caps there are merged (appendSpanCycle): the vertices of its chord at the
+  // end, from the Front polygon's first zero to its second. Empty for the other faces.
+  std::vector<std::vector<int>> joint_chord;
 };
 
-// Appends the cycle of `body` on `span` to `out`:
-//   Back (with the Grazing faces) at τ = 0, Front at τ = 1 (posed by `end_pose`, the span's
-//   end; a polySAM passes the next span's start so that joints coincide exactly, else null), and the
-//   strips swept by the boundary curves of Front, oriented with Front on their left. A span that
-//   continues from the joint of the previous one puts the reversed Front at τ = 0 instead of
-//   Back: the polySAM's cycle is body(0) plus each span's Front(1) - Front(0) + strips (the
-//   reasoning is at the top of cycle.cpp), and its joints are left to cancelOpposite.
-// Caps are cut exactly along the grazing chords; every point where a strip meets a cap is a
-// vertex of both (no T-junction), so Q is closed as a chain: every directed edge is matched by
-// its reverse. eps is the tessellation tolerance (tessellation.hpp).
+// What a span's cycle depends on besides its neighbours (cycle.cpp): the span's grazing set,
+// the boundary segments of Front, their time grids and the points that subdivide them. Built
+// once per span; a polySAM's spans read their neighbours' plans at the joints.
+struct SpanPlan;
+struct SpanPlanDelete {
+  void operator()(SpanPlan* plan) const;
+};
+using SpanPlanPtr = std::unique_ptr<SpanPlan, SpanPlanDelete>;
+
+// Plans the cycle of `body` on `span` with tessellation tolerance eps (tessellation.hpp).
 // `end_pose` may be null: then the span's end key pose `A B` (Span3::relative() times start())
 // is used, not its exponential at τ = 1, which carries the log's rounding (a half turn about z
-// as exp(pi J) has sin(pi) = 1.2e-16 off the axis). When it is given, the span records its
-// joint in `out` (Cycle::joint_vertex, joint_edge) and the next call must be for the span that
-// starts at `end_pose`: it starts from those vertices.
-void appendSpanCycle(Cycle& out, const Body& body, const Span3& span, const Affine3* end_pose, double eps,
+// as exp(pi J) has sin(pi) = 1.2e-16 off the axis). A polySAM passes the next span's start, so
+// that joints coincide exactly. Throws steady::Error when the grids need more than max_steps.
+SpanPlanPtr planSpan(const Body& body, const Span3& span, const Affine3* end_pose, double eps,
                      const GrazingOptions& grazing, int max_steps, int span_index);
+
+// Appends the cycle of the planned span to `out`:
+//   Back (with the Grazing faces) at τ = 0, Front at τ = 1, and the strips swept by the
+//   boundary curves of Front, oriented with Front on their left. A span that continues a
+//   polySAM (`prev`, the plan of the span before, appended just before this one) puts the
+//   reversed Front at τ = 0 instead of Back: the polySAM's cycle is body(0) plus each span's
+//   Front(1) - Front(0) + strips (the reasoning is at the top of cycle.cpp).
+// Joints (`prev` and `next`, null at the motion's ends): where two spans meet, the edges that
+//   neither span placed on a line subdivide at the points of both spans, and a face's end cap
+//   and the next span's reversed start cap, which then have the same sides, are not emitted
+//   when they cancel (a face Front in both) or are replaced by their sum (Front in one span,
+//   split by a grazing chord in the other: the side of the chord that is Back in the split
+//   span).
+// Caps are cut exactly along the grazing chords; every point where a strip meets a cap is a
+// vertex of both (no T-junction), so Q is closed as a chain: every directed edge is matched by
+// its reverse. When `next` is given, the span records its joint in `out` (Cycle::joint_vertex,
+// joint_edge), and the next call must be for `next`, with this plan as its `prev`.
+void appendSpanCycle(Cycle& out, const SpanPlan* prev, const SpanPlan& plan, const SpanPlan* next);
 
 // Removes from the cycle's triangles every pair of the same three vertices in opposite
 // orientations (their sum as a chain is zero, so the winding numbers stay), keeping the
-// triangles that remain in their order. A polySAM's joints cancel so: the end cap of one span
-// and the reversed start cap of the next (appendSpanCycle) share every face that both move
-// outward.
+// triangles that remain in their order. (A polySAM's joints leave such pairs where the caps of a
+// face could not be merged: next to an edge placed on a line, see appendSpanCycle.)
 void cancelOpposite(Cycle& cycle);
 
 }  // namespace steady::sweep::detail

@@ -5312,12 +5312,20 @@ Envelope detail::sweptEnvelope(const Body& body, const Motion3& motion, const Sw
   return sweepWithRefinements(options, eps, swept, t_start, doubt_cap, [&](double eps_t, std::size_t cap) {
     const auto t_cycle = std::chrono::steady_clock::now();
     detail::Cycle cycle;
+    // Each span's plan is used by its own cycle and by its neighbours' joints.
+    auto plan = [&](std::size_t i) {
+      // Joints use the next span's start pose, so that consecutive caps coincide exactly.
+      const Affine3 end = i + 1 < n ? motion.span(i + 1).start() : Affine3();
+      return detail::planSpan(body, motion.span(i), i + 1 < n ? &end : nullptr, eps_t, options.grazing,
+                              options.max_steps, static_cast<int>(i));
+    };
+    detail::SpanPlanPtr before, here = plan(0), after;
     for (std::size_t i = 0; i < n; ++i) {
       if (options.progress) options.progress({"cycle", static_cast<double>(i) / static_cast<double>(n)});
-      // Joints use the next span's start pose, so that consecutive caps coincide exactly.
-      const Affine3 next = i + 1 < n ? motion.span(i + 1).start() : Affine3();
-      detail::appendSpanCycle(cycle, body, motion.span(i), i + 1 < n ? &next : nullptr, eps_t, options.grazing,
-                              options.max_steps, static_cast<int>(i));
+      after = i + 1 < n ? plan(i + 1) : nullptr;
+      detail::appendSpanCycle(cycle, before.get(), *here, after.get());
+      before = std::move(here);
+      here = std::move(after);
     }
     if (n > 1) detail::cancelOpposite(cycle);
     return envelopeOf(std::move(cycle), eps, eps_t, n, swept, options, t_cycle, seconds(t_cycle), cap);
@@ -5336,7 +5344,9 @@ Envelope sweptEnvelope(const Body& body, const Span3& span, const SweepOptions& 
     const auto t_cycle = std::chrono::steady_clock::now();
     detail::Cycle cycle;
     if (options.progress) options.progress({"cycle", 0.0});
-    detail::appendSpanCycle(cycle, body, span, nullptr, eps_t, options.grazing, options.max_steps, 0);
+    detail::appendSpanCycle(cycle, nullptr,
+                            *detail::planSpan(body, span, nullptr, eps_t, options.grazing, options.max_steps, 0),
+                            nullptr);
     return envelopeOf(std::move(cycle), eps, eps_t, 1, swept, options, t_cycle, seconds(t_cycle), cap);
   });
 }
