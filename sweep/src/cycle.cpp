@@ -542,10 +542,15 @@ void appendSpanCycle(Cycle& out, const SpanPlan* prev, const SpanPlan& plan, con
   const Body& body = *plan.body;
   // This span continues the previous one from the joint it left (Cycle::joint_vertex).
   const bool continues = prev != nullptr;
-  if (continues == out.joint_vertex.empty() || (next && !plan.end_given))
-    throw Error(ErrorCode::InvalidArgument, plan.where + ": appendSpanCycle called out of turn (" +
-                                                (continues ? "no joint left by the span before" : "a joint left over") +
-                                                "); append a polySAM's spans in order");
+  if (continues == out.joint_vertex.empty())
+    throw Error(ErrorCode::InvalidArgument,
+                plan.where + ": appendSpanCycle called out of turn (" +
+                    (continues ? "no joint left by the span before" : "a joint left over by another span") +
+                    "); append a polySAM's spans in order, each with the plans of its neighbours");
+  if (next && !plan.end_given)
+    throw Error(ErrorCode::InvalidArgument, plan.where +
+                                                ": the span has a next span but was planned without an end pose; "
+                                                "plan it with the next span's start as its end pose");
   const auto& F = body.faces();
   const auto& E = body.edges();
   const auto& FE = body.faceEdges();

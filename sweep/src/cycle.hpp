@@ -62,6 +62,7 @@ using SpanPlanPtr = std::unique_ptr<SpanPlan, SpanPlanDelete>;
 // is used, not its exponential at τ = 1, which carries the log's rounding (a half turn about z
 // as exp(pi J) has sin(pi) = 1.2e-16 off the axis). A polySAM passes the next span's start, so
 // that joints coincide exactly. Throws steady::Error when the grids need more than max_steps.
+// The plan keeps a pointer to `body`, which must outlive it.
 SpanPlanPtr planSpan(const Body& body, const Span3& span, const Affine3* end_pose, double eps,
                      const GrazingOptions& grazing, int max_steps, int span_index);
 
@@ -72,15 +73,16 @@ SpanPlanPtr planSpan(const Body& body, const Span3& span, const Affine3* end_pos
 //   reversed Front at τ = 0 instead of Back: the polySAM's cycle is body(0) plus each span's
 //   Front(1) - Front(0) + strips (the reasoning is at the top of cycle.cpp).
 // Joints (`prev` and `next`, null at the motion's ends): where two spans meet, the edges that
-//   neither span placed on a line subdivide at the points of both spans, and a face's end cap
-//   and the next span's reversed start cap, which then have the same sides, are not emitted
-//   when they cancel (a face Front in both) or are replaced by their sum (Front in one span,
-//   split by a grazing chord in the other: the side of the chord that is Back in the split
-//   span).
+//   neither span placed on a line or holds fixed subdivide at the points of both spans, and a
+//   face's end cap and the next span's reversed start cap, which then have the same sides, are
+//   not emitted when they cancel (a face Front in both) or are replaced by their sum (Front in
+//   one span and split by a grazing chord in the other: the side of the chord that is Back in
+//   the split span; split in both: the region between the two chords).
 // Caps are cut exactly along the grazing chords; every point where a strip meets a cap is a
 // vertex of both (no T-junction), so Q is closed as a chain: every directed edge is matched by
 // its reverse. When `next` is given, the span records its joint in `out` (Cycle::joint_vertex,
-// joint_edge), and the next call must be for `next`, with this plan as its `prev`.
+// joint_edge, joint_chord), and the next call must be for `next`, with this plan as its `prev`;
+// otherwise it throws steady::Error.
 void appendSpanCycle(Cycle& out, const SpanPlan* prev, const SpanPlan& plan, const SpanPlan* next);
 
 // Removes from the cycle's triangles every pair of the same three vertices in opposite
