@@ -746,12 +746,12 @@ SampleOnScrew cgalSampleOnTheBenchmarkScrew(const std::string& name) {
 // traced before from the mouth memory (MouthMemory::filled) instead of searching again, which
 // must leave the envelope as it was: the face count, vertex count and volume below were recorded
 // with the code before that reuse (c09830a), and recorded again when the caps at the polySAM's
-// joints were merged (cycle.cpp; the volume moved by 5.4e-10 of itself). A reused filling that differed would not show
-// elsewhere: the rounds' own checks refill a bad one, and the other envelope tests all pass with
-// the reused fillings reversed, while this envelope's volume then moves by 5.5e-13 of itself
-// (the CLI's copy of the sphere, at its own size, gets 42 faces more). The tolerance, 1e-14 of
-// the volume, is for the rounding of the volume's sum alone; the sweep gives the same envelope
-// on any number of threads. (An intended change of the envelope records these again.)
+// joints were merged (cycle.cpp; the volume moved by 5.4e-10 of itself). A reused filling that
+// differed would not show elsewhere: the rounds' own checks refill a bad one, and the other
+// envelope tests all pass with the reused fillings reversed, while this envelope's volume then
+// moves by 5.5e-13 of itself (the CLI's copy of the sphere, at its own size, gets 42 faces
+// more). The tolerance, 1e-14 of the volume, is for the rounding of the volume's sum alone; the
+// sweep gives the same envelope on any number of threads. (An intended change of the envelope records these again.)
 TEST(Envelope, SphereOnTheGrowingScrewIsTheRecordedEnvelope) {
 #ifndef STEADY_CGAL_MESHES
   GTEST_SKIP() << "CGAL's sample meshes (Debian libcgal-demo) were not found when the build was configured";
