@@ -169,14 +169,10 @@ struct Grid {
 }  // namespace
 
 struct SpanPlan {
-  explicit SpanPlan(const Span3& span) : clean(span) {}
   const Body* body = nullptr;
-  int index = 0;
-  std::string where;
-  double eps = 0;
+  std::string where;  // "sweptEnvelope: span i", for messages
   bool end_given = false;
   GrazingSet gs;
-  CleanPoses clean;
   Affine3 start, end_pose;
   Eigen::Matrix3d M;
   Vec u;
@@ -254,12 +250,10 @@ std::array<double, 3> barycentric(const SpanPlan& plan, int q, int f) {
 
 SpanPlanPtr planSpan(const Body& body, const Span3& span, const Affine3* end_given, double eps,
                      const GrazingOptions& grazing, int max_steps, int span_index) {
-  SpanPlanPtr plan(new SpanPlan(span));
+  SpanPlanPtr plan(new SpanPlan);
   SpanPlan& S = *plan;
   S.body = &body;
-  S.index = span_index;
   S.where = "sweptEnvelope: span " + std::to_string(span_index);
-  S.eps = eps;
   S.end_given = end_given != nullptr;
   S.gs = grazingSet(body, span, grazing);
   // The span's end is its key pose, as the joints are (the next span's start): exp(log A) at
@@ -396,8 +390,9 @@ SpanPlanPtr planSpan(const Body& body, const Span3& span, const Affine3* end_giv
         comp_points[c].push_back(q);
       }
   }
+  const CleanPoses clean(span);
   auto poseAt = [&](double tau, bool first, bool last) {
-    return first ? start : last ? S.end_pose : S.clean(tau);
+    return first ? start : last ? S.end_pose : clean(tau);
   };
   auto& grids = S.grids;
   grids.resize(comp_points.size());
