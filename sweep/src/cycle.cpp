@@ -205,6 +205,12 @@ double cornerValue(const SpanPlan& plan, int f, int v) {
   return 0.0;
 }
 
+// Is face f front at parameter r of its edge (a, b)? (Affine interpolation of snapped values.)
+bool frontAt(const SpanPlan& plan, int f, int a, int b, double r) {
+  if (plan.part[f] != kSplit) return plan.part[f] == kFront;
+  return (1 - r) * cornerValue(plan, f, a) + r * cornerValue(plan, f, b) > 0;
+}
+
 // The polygon of face f on one side (sign +1: front, -1: back) through its corners and zeros,
 // in the face's winding, without the points that only subdivide sides (added later).
 std::vector<Corner> sidePolygon(const SpanPlan& plan, int f, int sign) {
@@ -295,11 +301,6 @@ SpanPlanPtr planSpan(const Body& body, const Span3& span, const Affine3* end_giv
     for (std::size_t f = 0; f < nf; ++f)
       part[f] = gs.faces[f] == FaceClass::Front ? kFront : gs.faces[f] == FaceClass::Split ? kSplit : kBack;
   auto g = [&](int f, int v) { return cornerValue(S, f, v); };
-  // Is face f front at parameter r of its edge (a, b)? (Affine interpolation of snapped values.)
-  auto frontAt = [&](int f, int a, int b, double r) {
-    if (part[f] != kSplit) return part[f] == kFront;
-    return (1 - r) * g(f, a) + r * g(f, b) > 0;
-  };
 
   // 1. Edges: zeros of the split faces' g, then the boundary pieces.
   auto& on_edge = S.on_edge;
@@ -333,7 +334,7 @@ SpanPlanPtr planSpan(const Body& body, const Span3& span, const Affine3* end_giv
     breaks.push_back({1.0, b});
     for (std::size_t k = 0; k + 1 < breaks.size(); ++k) {
       const double mid = 0.5 * (breaks[k].r + breaks[k + 1].r);
-      const bool f0 = frontAt(E[e].faces[0], a, b, mid), f1 = frontAt(E[e].faces[1], a, b, mid);
+      const bool f0 = frontAt(S, E[e].faces[0], a, b, mid), f1 = frontAt(S, E[e].faces[1], a, b, mid);
       if (f0 == f1) continue;
       // faces[0] runs along the edge from a to b: Front on the left means its direction.
       Segment s;
@@ -817,17 +818,21 @@ void appendSpanCycle(Cycle& out, const SpanPlan* prev, const SpanPlan& plan, con
   // do not cross inside the face each loop bounds a convex region; where they cross, the one
   // loop's fan overlaps itself, which the arrangement resolves. The span before leaves its
   // chord's vertices at τ = 1 in Cycle::joint_chord.
+  // The vertices of face f's chord at τ = 0 or 1, from the Front polygon's first zero to its
+  // second.
+  auto chordVertices = [&](int f, const std::function<int(int)>& at) {
+    const Segment& s = segs[plan.chord_segment[f]];
+    std::vector<int> chord{at(s.p)};
+    for (int q : sub[plan.chord_segment[f]]) chord.push_back(at(q));
+    chord.push_back(at(s.q));
+    return chord;
+  };
   auto emitSplitJoint = [&](int f) {
     std::vector<std::array<int, 2>> edges;  // the boundary, as directed edges
     const std::vector<int>& before = out.joint_chord[static_cast<std::size_t>(f)];
     for (std::size_t k = 0; k + 1 < before.size(); ++k) edges.push_back({{before[k], before[k + 1]}});
-    {
-      const Segment& s = segs[plan.chord_segment[f]];
-      std::vector<int> chord{at0(s.p)};
-      for (int q : sub[plan.chord_segment[f]]) chord.push_back(at0(q));
-      chord.push_back(at0(s.q));
-      for (std::size_t k = 0; k + 1 < chord.size(); ++k) edges.push_back({{chord[k + 1], chord[k]}});
-    }
+    const std::vector<int> chord = chordVertices(f, at0);
+    for (std::size_t k = 0; k + 1 < chord.size(); ++k) edges.push_back({{chord[k + 1], chord[k]}});
     for (int k = 0; k < 3; ++k) {
       const int e = FE[f][k];
       const int a = E[e].vertices[0], b = E[e].vertices[1];
@@ -837,8 +842,7 @@ void appendSpanCycle(Cycle& out, const SpanPlan* prev, const SpanPlan& plan, con
       pts.push_back({1.0 - r0, Corner{F[f][(k + 1) % 3], true, false}});
       for (std::size_t i = 0; i + 1 < pts.size(); ++i) {
         const double mid = 0.5 * (pts[i].first + pts[i + 1].first);
-        auto frontIn = [&](const SpanPlan& S) { return (1 - mid) * cornerValue(S, f, a) + mid * cornerValue(S, f, b) > 0; };
-        const bool was = frontIn(*prev), is = frontIn(plan);
+        const bool was = frontAt(*prev, f, a, b, mid), is = frontAt(plan, f, a, b, mid);
         if (was == is) continue;
         const int x = pts[i].second.vertex >= 0 ? pts[i].second.vertex : at0(pts[i].second.point);
         const int y = pts[i + 1].second.vertex >= 0 ? pts[i + 1].second.vertex : at0(pts[i + 1].second.point);
@@ -911,11 +915,7 @@ void appendSpanCycle(Cycle& out, const SpanPlan* prev, const SpanPlan& plan, con
       if (after == kFront) {
         emitPolygon(fi, sidePolygon(plan, fi, -1), true, true);
       } else if (after == kSplit) {  // (the span after emits the sum)
-        const Segment& s = segs[plan.chord_segment[f]];
-        std::vector<int>& chord = joint_chord[f];
-        chord.push_back(at1(s.p));
-        for (int q : sub[plan.chord_segment[f]]) chord.push_back(at1(q));
-        chord.push_back(at1(s.q));
+        joint_chord[f] = chordVertices(fi, at1);
       } else {
         emitPolygon(fi, sidePolygon(plan, fi, +1), true, false);
       }
