@@ -1,10 +1,13 @@
 #pragma once
 // The cutting step of the refinement of deep mouth fillings (defined in trim.cpp, see "Refined
-// fillings" there), declared here for its tests. Internal to steady::sweep.
+// fillings" there), and the shape by which the mouth rounds remember the fillings they probed
+// and refined, declared here for their tests. Internal to steady::sweep.
 #include <Eigen/Core>
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
+#include <cstring>
 #include <vector>
 
 namespace steady::sweep::detail {
@@ -27,5 +30,31 @@ namespace steady::sweep::detail {
 bool bisectFilling(const std::vector<Eigen::Vector3d>& V, const std::vector<int>& loop,
                    std::vector<std::array<int, 3>>& faces, std::vector<Eigen::Vector3d>& fresh, double h,
                    std::size_t max_points);
+
+// A filling as the depth check of fillings and their refinement see it (trim.cpp: "Deep
+// fillings", "Refined fillings"), which is all their results depend on: the points of its loop
+// and faces renumbered by first appearance (the loop's first), their coordinates, and the order
+// of their original numbers (a refinement cuts the longest edge first, and equally long edges
+// in the order of their end points' numbers). The mouth rounds remember both results by it
+// (MouthMemory in trim.cpp): a filling met again in a later round, with its points numbered
+// anew, has the same shape when its results would be the same.
+struct FillingShape {
+  std::vector<int> global;  // the points' original numbers (not part of the shape)
+  std::vector<Eigen::Vector3d> points;
+  std::vector<int> rank;  // per point: its place among the points ordered by original number
+  std::vector<int> loop;
+  std::vector<std::array<int, 3>> faces;
+  std::uint64_t hash = 0;  // of the rest
+  // Same shape: the coordinates bit for bit, and the same ranks, loop and faces.
+  bool operator==(const FillingShape& o) const {
+    return points.size() == o.points.size() &&
+           std::memcmp(points.data(), o.points.data(), points.size() * sizeof(Eigen::Vector3d)) == 0 &&
+           rank == o.rank && loop == o.loop && faces == o.faces;
+  }
+};
+
+// The shape of the filling `faces` of `loop` (indices into V, as are the faces' corners).
+FillingShape shapeOf(const std::vector<Eigen::Vector3d>& V, const std::vector<int>& loop,
+                     const std::vector<std::array<int, 3>>& faces);
 
 }  // namespace steady::sweep::detail

@@ -74,6 +74,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <functional>
 #include <limits>
 #include <map>
@@ -3574,6 +3575,36 @@ bool detail::bisectFilling(const std::vector<Vec>& V, const std::vector<int>& lo
   return true;
 }
 
+detail::FillingShape detail::shapeOf(const std::vector<Vec>& V, const std::vector<int>& loop, const std::vector<Tri>& faces) {
+  FillingShape s;
+  std::unordered_map<int, int> local;
+  auto id = [&](int v) {
+    const auto [it, added] = local.try_emplace(v, static_cast<int>(s.global.size()));
+    if (added) s.global.push_back(v), s.points.push_back(V[static_cast<std::size_t>(v)]);
+    return it->second;
+  };
+  for (const int v : loop) s.loop.push_back(id(v));
+  for (const Tri& t : faces) s.faces.push_back({{id(t[0]), id(t[1]), id(t[2])}});
+  std::vector<int> order(s.global.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return s.global[a] < s.global[b]; });
+  s.rank.resize(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) s.rank[static_cast<std::size_t>(order[k])] = static_cast<int>(k);
+  std::uint64_t h = s.points.size() * 0x9E3779B97F4A7C15ull + s.faces.size();
+  auto mix = [&h](std::uint64_t x) { h = mixBits(h ^ x) + 0x9E3779B97F4A7C15ull; };
+  for (const Vec& x : s.points)
+    for (int k = 0; k < 3; ++k) {
+      std::uint64_t bits;
+      std::memcpy(&bits, &x[k], sizeof bits);
+      mix(bits);
+    }
+  for (const int r : s.rank) mix(static_cast<std::uint32_t>(r));
+  for (const int v : s.loop) mix(static_cast<std::uint32_t>(v));
+  for (const Tri& t : s.faces) mix((static_cast<std::uint64_t>(t[0]) << 42) ^ (static_cast<std::uint64_t>(t[1]) << 21) ^ static_cast<std::uint64_t>(t[2]));
+  s.hash = h;
+  return s;
+}
+
 namespace {
 
 // Refines the filling F of `loop` (see Refined fillings): on success F holds the refined faces
@@ -3674,12 +3705,76 @@ struct MouthMemory {
     std::vector<std::array<int, 3>> patch;
   };
   std::unordered_map<std::uint64_t, Filled> filled;
+  // The depth checks (see Deep fillings) and refinements (see Refined fillings) of the fillings
+  // of every round so far, by their shapes. A filling met again in a later round is neither
+  // probed nor refined again. (The rounds after the first depth check usually meet the same
+  // fillings: the elephant along data/motions/keys.json checked 2,680 and then 2,676 fillings,
+  // 32 of them deep, at about 4.5 s each time, 3 s of it in the 27 refinements that failed.)
+  struct Probed {
+    detail::FillingShape shape;
+    char deep;
+    double bound;
+  };
+  std::unordered_multimap<std::uint64_t, Probed> probed;
+  // A refinement: when `ok`, the faces in the shape's numbers, fresh point k numbered
+  // shape.points.size() + k.
+  struct Refined {
+    detail::FillingShape shape;
+    bool ok;
+    std::vector<Vec> fresh;
+    std::vector<Tri> faces;
+  };
+  std::unordered_multimap<std::uint64_t, Refined> refined;
+  template <class Map>
+  static auto find(Map& map, const detail::FillingShape& shape) {
+    const auto [first, last] = map.equal_range(shape.hash);
+    for (auto it = first; it != last; ++it)
+      if (it->second.shape == shape) return it;
+    return map.end();
+  }
   static std::uint64_t hash(const std::vector<int>& loop) {
     std::uint64_t h = loop.size();
     for (const int v : loop) h = mixBits(h ^ static_cast<std::uint32_t>(v)) + 0x9E3779B97F4A7C15ull;
     return h;
   }
 };
+
+// refineFilling, or its result for the same shape in an earlier round (see MouthMemory).
+bool refineRemembered(std::vector<Vec>& V, std::vector<IPoint>& P, const std::vector<int>& loop, std::vector<Tri>& F,
+                      double eps_t, const DepthTest& depth, int threads, MouthMemory& memory) {
+  detail::FillingShape shape = detail::shapeOf(V, loop, F);
+  const int base = static_cast<int>(V.size());
+  const auto n = static_cast<int>(shape.points.size());
+  const auto known = MouthMemory::find(memory.refined, shape);
+  if (known != memory.refined.end()) {
+    const MouthMemory::Refined& r = known->second;
+    if (!r.ok) return false;
+    for (const Vec& x : r.fresh) V.push_back(x), P.emplace_back(x.x(), x.y(), x.z());
+    F.clear();
+    for (const Tri& t : r.faces) {
+      Tri u;
+      for (int k = 0; k < 3; ++k) u[k] = t[k] < n ? shape.global[static_cast<std::size_t>(t[k])] : base + (t[k] - n);
+      F.push_back(u);
+    }
+    return true;
+  }
+  MouthMemory::Refined r{{}, refineFilling(V, P, loop, F, eps_t, depth, threads), {}, {}};
+  if (r.ok) {
+    std::unordered_map<int, int> local;
+    for (int k = 0; k < n; ++k) local.emplace(shape.global[static_cast<std::size_t>(k)], k);
+    r.fresh.assign(V.begin() + base, V.end());
+    for (const Tri& t : F) {
+      Tri u;
+      for (int k = 0; k < 3; ++k) u[k] = t[k] < base ? local.at(t[k]) : n + (t[k] - base);
+      r.faces.push_back(u);
+    }
+  }
+  const bool ok = r.ok;
+  const std::uint64_t key = shape.hash;
+  r.shape = std::move(shape);
+  memory.refined.emplace(key, std::move(r));
+  return ok;
+}
 
 long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vector<std::array<int, 2>>& trouble,
                 std::vector<Tri>* rim, std::size_t& flaps, const DepthTest& depth, long refuse_below, long& found_deep, FillingDepths& taken,
@@ -4599,12 +4694,25 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
     // Probes the fillings of the loops flagged in `which`: flags those found deep, and sets
     // their largest probe bounds (`bound`, per loop).
     std::vector<double> bound(loops.size(), 0.0);
+    // (the fillings met in earlier rounds take their results from the memory; the others'
+    // complete results go there: a loop found deep while every deep filling is refused may
+    // have skipped probes, so its bound is left out)
     auto probeFillings = [&](const std::vector<char>& which, std::vector<char>& deep_out) {
       std::vector<Probe> probes, cover;
       std::vector<Vec> pts;
       auto farther = [](const Probe& a, const Probe& b) { return a.reach > b.reach; };
+      deep_out.assign(loops.size(), 0);
+      std::vector<detail::FillingShape> shapes(loops.size());
+      std::vector<char> probe(loops.size(), 0);
       for (std::size_t l = 0; l < loops.size(); ++l) {
         if (!which[l]) continue;
+        shapes[l] = detail::shapeOf(V, loops[l], fill[l]);
+        const auto known = MouthMemory::find(memory.probed, shapes[l]);
+        if (known != memory.probed.end()) {
+          deep_out[l] = known->second.deep, bound[l] = known->second.bound;
+          continue;
+        }
+        probe[l] = 1;
         // (the cover's spacing grows with the filling's area, so that it has about
         // kFillingCover points; of those, the farthest from the loop on each face and the
         // kFillingProbes farthest of the rest are probed)
@@ -4643,13 +4751,17 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
         bounds[i] = depth.boundAt(q.x, q.n);
         if (bounds[i] > limit) deep[static_cast<std::size_t>(q.loop)].store(1, std::memory_order_relaxed);
       });
-      deep_out.assign(loops.size(), 0);
       for (std::size_t l = 0; l < loops.size(); ++l)
-        if (which[l]) deep_out[l] = deep[l].load(), bound[l] = 0;
+        if (probe[l]) deep_out[l] = deep[l].load(), bound[l] = 0;
       for (std::size_t i = 0; i < probes.size(); ++i) {
         double& b = bound[static_cast<std::size_t>(probes[i].loop)];
         b = std::max(b, bounds[i]);
       }
+      for (std::size_t l = 0; l < loops.size(); ++l)
+        if (probe[l] && (!deep_out[l] || refuse_below != kRefuseAll)) {
+          const std::uint64_t key = shapes[l].hash;
+          memory.probed.emplace(key, MouthMemory::Probed{std::move(shapes[l]), deep_out[l], bound[l]});
+        }
     };
     std::vector<char> deep;
     probeFillings(std::vector<char>(loops.size(), 1), deep);
@@ -4661,7 +4773,7 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
     for (std::size_t l = 0; l < loops.size(); ++l) {
       if (!deep[l]) continue;
       flat[l] = fill[l];
-      refined[l] = refineFilling(V, P, loops[l], fill[l], eps_t, depth, threads);
+      refined[l] = refineRemembered(V, P, loops[l], fill[l], eps_t, depth, threads, memory);
       any = any || refined[l];
     }
     if (any) {

@@ -1,7 +1,10 @@
 // The cutting step of the refinement of deep mouth fillings (detail::bisectFilling, trim.cpp):
 // on a flat square and on the filling that made the step run away (campaign case 2819), the
 // result is checked for what the step promises: a closed fan of faces over the same loop and
-// area, points at least h/2 apart, and no edge left that the rule would still cut.
+// area, points at least h/2 apart, and no edge left that the rule would still cut. And the shape
+// by which the mouth rounds remember fillings (detail::FillingShape): the same for the same
+// filling numbered anew in the same order, whose cut is then the same; different when a
+// coordinate, the order of the numbers or the faces differ.
 #include "filling.hpp"
 
 #include <gtest/gtest.h>
@@ -17,6 +20,8 @@ namespace {
 using Vec = Eigen::Vector3d;
 using Tri = std::array<int, 3>;
 using steady::sweep::detail::bisectFilling;
+using steady::sweep::detail::FillingShape;
+using steady::sweep::detail::shapeOf;
 
 double toLoop(const std::vector<Vec>& V, const std::vector<int>& loop, const Vec& x) {
   double d = HUGE_VAL;
@@ -141,6 +146,75 @@ TEST(BisectFilling, FacesWithTheirLongestEdgesOnTheLoopStopBeingCut) {
   ASSERT_TRUE(bisectFilling(V, loop, faces, fresh, h, 4096)) << "ran past 4,096 points";
   EXPECT_LE(static_cast<double>(fresh.size()), 16 / M_PI * area(V, before) / (h * h));
   expectCut(V, loop, before, faces, fresh, h);
+}
+
+// A filling and its cut, in the shape's numbers: the points of the shape, then the fresh ones.
+struct LocalCut {
+  std::vector<Vec> fresh;
+  std::vector<Tri> faces;
+};
+LocalCut cutInShape(const std::vector<Vec>& V, const std::vector<int>& loop, const std::vector<Tri>& before,
+                    const FillingShape& shape, double h) {
+  std::vector<Tri> faces = before;
+  LocalCut c;
+  EXPECT_TRUE(bisectFilling(V, loop, faces, c.fresh, h, 4096));
+  std::map<int, int> local;
+  for (std::size_t k = 0; k < shape.global.size(); ++k) local[shape.global[k]] = static_cast<int>(k);
+  const int base = static_cast<int>(V.size()), n = static_cast<int>(shape.global.size());
+  for (const Tri& t : faces) {
+    Tri u;
+    for (int k = 0; k < 3; ++k) u[k] = t[k] < base ? local.at(t[k]) : n + (t[k] - base);
+    c.faces.push_back(u);
+  }
+  return c;
+}
+
+// The square of CutsAFlatSquareDownToTheGivenLength (whose cut meets many equally long edges)
+// numbered 0-3, and again among other points as 1, 3, 4 and 6: the same shape and hash, and
+// the same cut, point for point and face for face.
+TEST(FillingShape, IsTheSameForTheFillingNumberedAnewInTheSameOrder) {
+  const std::vector<Vec> square = {Vec(0, 0, 0), Vec(10, 0, 0), Vec(10, 10, 0), Vec(0, 10, 0)};
+  const std::vector<int> loop = {0, 1, 2, 3};
+  const std::vector<Tri> before = {{{0, 1, 2}}, {{0, 2, 3}}};
+  const std::vector<int> to = {1, 3, 4, 6};
+  std::vector<Vec> V2(8, Vec(-5, 7, 1));
+  for (int k = 0; k < 4; ++k) V2[static_cast<std::size_t>(to[k])] = square[static_cast<std::size_t>(k)];
+  std::vector<int> loop2;
+  for (const int v : loop) loop2.push_back(to[static_cast<std::size_t>(v)]);
+  std::vector<Tri> before2;
+  for (const Tri& t : before)
+    before2.push_back({{to[static_cast<std::size_t>(t[0])], to[static_cast<std::size_t>(t[1])], to[static_cast<std::size_t>(t[2])]}});
+  const FillingShape a = shapeOf(square, loop, before), b = shapeOf(V2, loop2, before2);
+  EXPECT_TRUE(a == b);
+  EXPECT_EQ(a.hash, b.hash);
+  EXPECT_EQ(b.global, to);
+  const LocalCut ca = cutInShape(square, loop, before, a, 1.0), cb = cutInShape(V2, loop2, before2, b, 1.0);
+  ASSERT_GT(ca.fresh.size(), 20u);
+  ASSERT_EQ(ca.fresh.size(), cb.fresh.size());
+  for (std::size_t k = 0; k < ca.fresh.size(); ++k) EXPECT_TRUE(ca.fresh[k] == cb.fresh[k]) << "fresh point " << k;
+  EXPECT_EQ(ca.faces, cb.faces);
+}
+
+TEST(FillingShape, TellsApartCoordinatesTheOrderOfTheNumbersAndTheFaces) {
+  const std::vector<Vec> square = {Vec(0, 0, 0), Vec(10, 0, 0), Vec(10, 10, 0), Vec(0, 10, 0)};
+  const std::vector<int> loop = {0, 1, 2, 3};
+  const std::vector<Tri> before = {{{0, 1, 2}}, {{0, 2, 3}}};
+  const FillingShape a = shapeOf(square, loop, before);
+  // One coordinate one unit in the last place away.
+  std::vector<Vec> moved = square;
+  moved[2].y() = std::nextafter(10.0, 11.0);
+  EXPECT_FALSE(a == shapeOf(moved, loop, before));
+  // The same points and faces, numbered in another order (3, 2, 1, 0): the cut may break its
+  // ties otherwise.
+  const std::vector<Vec> reversed = {square[3], square[2], square[1], square[0]};
+  const FillingShape r = shapeOf(reversed, {3, 2, 1, 0}, {{{3, 2, 1}}, {{3, 1, 0}}});
+  EXPECT_EQ(r.points.size(), a.points.size());
+  EXPECT_EQ(r.loop, a.loop);
+  EXPECT_EQ(r.faces, a.faces);
+  EXPECT_FALSE(a == r);
+  // The faces in the other order, and the other diagonal.
+  EXPECT_FALSE(a == shapeOf(square, loop, {{{0, 2, 3}}, {{0, 1, 2}}}));
+  EXPECT_FALSE(a == shapeOf(square, loop, {{{0, 1, 3}}, {{1, 2, 3}}}));
 }
 
 }  // namespace
