@@ -48,7 +48,8 @@ struct FillingShape {
   // Same shape: the coordinates bit for bit, and the same ranks, loop and faces.
   bool operator==(const FillingShape& o) const {
     return points.size() == o.points.size() &&
-           std::memcmp(points.data(), o.points.data(), points.size() * sizeof(Eigen::Vector3d)) == 0 &&
+           (points.empty() ||
+            std::memcmp(points.data(), o.points.data(), points.size() * sizeof(Eigen::Vector3d)) == 0) &&
            rank == o.rank && loop == o.loop && faces == o.faces;
   }
 };
