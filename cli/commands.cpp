@@ -878,6 +878,7 @@ SweepOutput sweepCommand(const SweepRequest& request) {
   report["cavity_depth_bound"] = outputNumber(envelope.cavity_depth_bound);  // (null: infinite)
   report["cavity_uncertified"] = envelope.cavity_uncertified;
   report["cavity_faces_uncertified"] = envelope.cavity_faces_uncertified;
+  report["uncertified_vertices_moved"] = envelope.uncertified_vertices_moved;
   report["pocket_mouths_filled"] = envelope.pocket_mouths_filled;
   report["deep_fillings_taken"] = envelope.deep_fillings_taken;
   report["fillings_refined"] = envelope.fillings_refined;

@@ -346,6 +346,7 @@ int main(int argc, char** argv) {
       "  \"crack_faces_kept\", \"kept_wall_vertices\", \"kept_wall_depth_bound\" (null: beyond 8 x tolerance),\n"
       "  \"kept_wall_uncertified\" (vertex indices), \"kept_wall_faces_uncertified\" (face indices),\n"
       "  \"cavity_vertices\", \"cavity_depth_bound\", \"cavity_uncertified\", \"cavity_faces_uncertified\",\n"
+      "  \"uncertified_vertices_moved\",\n"
       "  \"pocket_mouths_filled\", \"deep_fillings_taken\", \"fillings_refined\", \"filling_depth_bound\"\n"
       "  (null: beyond 8 x tolerance), \"mouth_flaps_removed\",\n"
       "  \"mouth_rim_faces_removed\", \"buried_dents_filled\", \"rounding_merged\", \"pinched_vertices_split\",\n"

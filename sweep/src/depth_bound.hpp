@@ -88,12 +88,17 @@ inline const std::vector<Eigen::Vector3d>& cubeDirections() {
 // The bound for point x (world units; see the file comment): the smallest claim times ε at
 // which some probe gets the other answer than x from `inside` (a predicate with the inside
 // test's guarantees, tolerance delta), or infinity. Claims whose radius would not be positive
-// (ε not far above δ) are skipped.
+// (ε not far above δ) are skipped. When `witness` is given and the bound is finite, it gets
+// the probe that found the other side.
 template <class Inside>
 double depthBound(const Eigen::Vector3d& x, double eps, double delta, const Inside& inside,
-                  const SurfaceProbes& surface = {}) {
+                  const SurfaceProbes& surface = {}, Eigen::Vector3d* witness = nullptr) {
   const bool in = inside(x);
-  auto across = [&](const Eigen::Vector3d& q) { return inside(q) != in; };
+  auto across = [&](const Eigen::Vector3d& q) {
+    if (inside(q) == in) return false;
+    if (witness) *witness = q;
+    return true;
+  };
   // Along each of `dirs` at the radii claim 2^-j - 4δ, j = from .. to (while positive).
   auto finer = [&](const std::vector<Eigen::Vector3d>& dirs, double claim, int from, int to) {
     for (const Eigen::Vector3d& d : dirs)

@@ -50,6 +50,7 @@
 #include "doubt.hpp"
 #include "face_tree.hpp"
 #include "filling.hpp"
+#include "settle.hpp"
 #include "pinches.hpp"
 
 #include <steady/core/error.hpp>
@@ -4868,6 +4869,9 @@ constexpr int kHintAfter = 64;
 struct DepthBound {
   double worst = 0;
   std::vector<int> beyond;  // the vertices whose bound exceeds ε, in increasing order
+  // (surfaceDepths) per vertex of `beyond`: the probe found across the boundary at its bound
+  // (not finite when the bound is infinite)
+  std::vector<Vec> across;
   bool partial = false;     // some were left unmeasured (see Doubt)
 };
 
@@ -4907,6 +4911,7 @@ DepthBound surfaceDepths(const std::vector<Vec>& V, const std::vector<Tri>& T, c
     }
   }
   std::vector<double> bound(which.size(), std::numeric_limits<double>::quiet_NaN());
+  std::vector<Vec> across(which.size(), Vec::Constant(std::numeric_limits<double>::quiet_NaN()));
   parallelFor(0, which.size(), threads, [&](std::size_t i) {
     if (doubt.reached()) return;
     detail::SurfaceProbes& p = probes[i];
@@ -4933,7 +4938,7 @@ DepthBound surfaceDepths(const std::vector<Vec>& V, const std::vector<Tri>& T, c
       if (++calls == kHintAfter) hint = swept.hint(x);
       return hint ? swept.contains(q, *hint) : swept.contains(q);
     };
-    bound[i] = detail::depthBound(x, eps, swept.tolerance(), inside, p);
+    bound[i] = detail::depthBound(x, eps, swept.tolerance(), inside, p, &across[i]);
     if (bound[i] > eps) doubt.found.fetch_add(1, std::memory_order_relaxed);
   });
   for (std::size_t i = 0; i < which.size(); ++i) {
@@ -4942,7 +4947,7 @@ DepthBound surfaceDepths(const std::vector<Vec>& V, const std::vector<Tri>& T, c
       continue;
     }
     out.worst = std::max(out.worst, bound[i]);
-    if (bound[i] > eps) out.beyond.push_back(which[i]);
+    if (bound[i] > eps) out.beyond.push_back(which[i]), out.across.push_back(across[i]);
   }
   return out;
 }
@@ -4987,6 +4992,9 @@ struct Draft {
   Envelope env;
   std::vector<int> kept, cavity;
   bool partial = false;
+  // The listed vertices (kept_wall_uncertified, then cavity_uncertified) with a finite bound,
+  // each with the probe found across the boundary at its bound.
+  std::vector<std::pair<int, Vec>> across;
 };
 
 // The vertices of the shells of (V, T) other than the one of largest signed volume, in
@@ -5028,6 +5036,7 @@ void certifyDepths(Draft& draft, const SweptVolume& swept, int threads, std::siz
   Doubt doubt;
   doubt.cap = cap;
   draft.partial = false;
+  draft.across.clear();
   // (the vertices `which` and their faces' centroids: how many, the largest bound, those over ε)
   auto measure = [&](const std::vector<int>& which, std::size_t& count, double& bound, std::vector<int>& vertices,
                      std::vector<int>& faces) {
@@ -5037,6 +5046,8 @@ void certifyDepths(Draft& draft, const SweptVolume& swept, int threads, std::siz
     bound = std::max(v.worst, f.worst);
     vertices = v.beyond;
     faces = f.beyond;
+    for (std::size_t k = 0; k < v.beyond.size(); ++k)
+      if (v.across[k].allFinite()) draft.across.emplace_back(v.beyond[k], v.across[k]);
     draft.partial = draft.partial || v.partial || f.partial;
   };
   measure(draft.kept, env.kept_wall_vertices, env.kept_wall_depth_bound, env.kept_wall_uncertified,
@@ -5044,6 +5055,114 @@ void certifyDepths(Draft& draft, const SweptVolume& swept, int threads, std::siz
   measure(draft.cavity, env.cavity_vertices, env.cavity_depth_bound, env.cavity_uncertified,
           env.cavity_faces_uncertified);
 }
+
+}  // namespace
+
+// (see settle.hpp)
+std::size_t detail::settleVertices(std::vector<Vec>& V, const std::vector<Tri>& T, const std::vector<std::pair<int, Vec>>& across,
+                                   const std::function<bool(const Vec&)>& inside, double eps) {
+  if (across.empty()) return 0;
+  std::vector<int> slot(V.size(), -1);
+  for (std::size_t i = 0; i < across.size(); ++i) slot[static_cast<std::size_t>(across[i].first)] = static_cast<int>(i);
+  std::vector<std::vector<int>> star(across.size());
+  for (std::size_t f = 0; f < T.size(); ++f)
+    for (const int v : T[f])
+      if (slot[static_cast<std::size_t>(v)] >= 0) star[static_cast<std::size_t>(slot[static_cast<std::size_t>(v)])].push_back(static_cast<int>(f));
+  std::vector<IPoint> P;
+  P.reserve(V.size());
+  for (const Vec& x : V) P.emplace_back(x.x(), x.y(), x.z());
+  auto normal = [&](const Tri& t) { return Vec((V[t[1]] - V[t[0]]).cross(V[t[2]] - V[t[0]])); };
+  // (the faces' boxes, kept up to date with the moves)
+  std::vector<Vec> face_lo(T.size()), face_hi(T.size());
+  auto bound = [&](std::size_t f) {
+    const Tri& t = T[f];
+    face_lo[f] = V[t[0]].cwiseMin(V[t[1]]).cwiseMin(V[t[2]]);
+    face_hi[f] = V[t[0]].cwiseMax(V[t[1]]).cwiseMax(V[t[2]]);
+  };
+  for (std::size_t f = 0; f < T.size(); ++f) bound(f);
+  auto meets = [&](std::size_t f, const Vec& lo, const Vec& hi) {
+    return (face_lo[f].array() <= hi.array()).all() && (lo.array() <= face_hi[f].array()).all();
+  };
+  auto place = [&](int v, const Vec& x, const std::vector<int>& faces) {
+    V[static_cast<std::size_t>(v)] = x;
+    P[static_cast<std::size_t>(v)] = IPoint(x.x(), x.y(), x.z());
+    for (const int f : faces) bound(static_cast<std::size_t>(f));
+  };
+  std::size_t moved = 0;
+  std::vector<int> near;
+  for (std::size_t i = 0; i < across.size(); ++i) {
+    const int v = across[i].first;
+    const Vec x = V[static_cast<std::size_t>(v)];
+    const bool in = inside(x);
+    const Vec& y = across[i].second;
+    if (inside(y) == in) continue;  // (the same answers as the certificate's)
+    const std::vector<int>& faces = star[i];
+    std::vector<Vec> before;
+    Vec outward = Vec::Zero();  // (the vertex's normal, weighted by area)
+    for (const int f : faces) before.push_back(normal(T[static_cast<std::size_t>(f)])), outward += before.back();
+    // Every target lies within r of x, so the faces at the vertex stay in the box of their
+    // corners and x +- r: only the faces that meet it can come to cross them.
+    const double r = (y - x).norm();
+    Vec reach_lo = x - Vec::Constant(r), reach_hi = x + Vec::Constant(r);
+    for (const int f : faces)
+      reach_lo = reach_lo.cwiseMin(face_lo[static_cast<std::size_t>(f)]), reach_hi = reach_hi.cwiseMax(face_hi[static_cast<std::size_t>(f)]);
+    near.clear();
+    for (std::size_t g = 0; g < T.size(); ++g)
+      if (meets(g, reach_lo, reach_hi)) near.push_back(static_cast<int>(g));
+    // Whether the vertex may stay at z (placed there; back at x otherwise).
+    auto tryAt = [&](const Vec& z) {
+      place(v, z, faces);
+      bool ok = true;
+      for (std::size_t k = 0; k < faces.size() && ok; ++k) {
+        const Tri& t = T[static_cast<std::size_t>(faces[k])];
+        ok = normal(t).dot(before[k]) > 0 && !CGAL::collinear(P[t[0]], P[t[1]], P[t[2]]);
+      }
+      for (std::size_t k = 0; k < near.size() && ok; ++k) {
+        const auto g = static_cast<std::size_t>(near[k]);
+        for (const int f : faces)
+          if (static_cast<std::size_t>(f) != g && meets(g, face_lo[static_cast<std::size_t>(f)], face_hi[static_cast<std::size_t>(f)]) &&
+              crosses(P, T[static_cast<std::size_t>(f)], T[g])) {
+            ok = false;
+            break;
+          }
+      }
+      if (!ok) place(v, x, faces);
+      return ok;
+    };
+    // Towards y across the boundary: the crossing b on the segment, then points short of it.
+    auto settleTowards = [&](const Vec& y) {
+      Vec lo = x, hi = y;
+      while ((hi - lo).norm() > kSettleBracket * eps) {
+        const Vec mid = 0.5 * (lo + hi);
+        (inside(mid) == in ? lo : hi) = mid;
+      }
+      const Vec b = 0.5 * (lo + hi);
+      const bool into = !((in ? 1.0 : -1.0) * outward.dot(b - x) > 0);
+      const double d = (b - x).norm();
+      for (const double short_of : kSettleShort) {
+        if (short_of * eps >= d) break;
+        if (into && d - short_of * eps > eps) continue;
+        if (tryAt(b + (short_of * eps / d) * (x - b))) return true;
+      }
+      return false;
+    };
+    bool done = settleTowards(y);
+    // Then the other probes at the same distance: across the faces at the vertex, both ways,
+    // and the cube's directions.
+    std::vector<Vec> dirs;
+    for (const Vec& n : before)
+      if (n.norm() > 0) dirs.push_back(n.normalized()), dirs.push_back(-n.normalized());
+    for (const Vec& c : detail::cubeDirections()) dirs.push_back(c);
+    for (std::size_t k = 0; k < dirs.size() && !done; ++k) {
+      const Vec z = x + r * dirs[k];
+      if (inside(z) != in) done = settleTowards(z);
+    }
+    moved += done;
+  }
+  return moved;
+}
+
+namespace {
 
 // `eps_t`: the tessellation tolerance of the cycle (kTessellationShare eps, or less on a re-sweep);
 // `cap`: see certifyDepths.
@@ -5324,6 +5443,10 @@ Draft envelopeOf(detail::Cycle cycle, double eps, double eps_t, std::size_t span
   draft.kept = verticesNear(env.vertices, kept_points, kKeptMatch * eps);
   draft.cavity = innerShellVertices(env.vertices, env.triangles, options.threads);
   certifyDepths(draft, swept, options.threads, cap);
+  if (!draft.partial) {
+    env.uncertified_vertices_moved = detail::settleVertices(env.vertices, env.triangles, draft.across, inside_swept, eps);
+    if (env.uncertified_vertices_moved > 0) certifyDepths(draft, swept, options.threads, cap);
+  }
   env.timings.output = seconds(t0);
 
   t0 = std::chrono::steady_clock::now();

@@ -15,6 +15,8 @@
 //   --all-vertices   also every envelope vertex against the true boundary, not only a sample:
 //                    against the posed bodies (checkVerticesInBox) and, for the vertices inside
 //                    the swept volume, across its boundary (checkAcross)
+//   --refinements N  re-sweeps allowed (SweepOptions::refinements; default 2): 0 checks the
+//                    first sweep's envelope
 //   --repro-dir DIR  for each failing case, and each whose envelope lists kept-wall vertices it
 //                    could not certify, its motion (a motion file, every key pose at full
 //                    precision) and its mesh (OFF) in DIR, for the steady CLI or --case
@@ -294,6 +296,7 @@ std::string verifyExtraShells(const Mesh& mesh, const Motion3& motion, const Env
 
 struct Options {
   bool dense = false, all_vertices = false;
+  int refinements = -1;  // (negative: SweepOptions' default)
   std::string repro_dir, log;
   std::string mesh_file, motion_file;  // (--case only)
 };
@@ -344,7 +347,7 @@ std::string runCase(const Case& c, long index, const Options& opt) {
     Envelope env;
     bool threw = false;
     try {
-      env = sweep(mesh, motion, c.rel);
+      env = sweep(mesh, motion, c.rel, opt.refinements);
     } catch (const steady::Error& e) {
       threw = true;
       detail = format("steady::Error %s: %s", steady::to_string(e.code()), e.what());
@@ -411,6 +414,7 @@ std::string runCase(const Case& c, long index, const Options& opt) {
         notes += format(" | deep fillings taken %zu, bound %.3g eps", env.deep_fillings_taken,
                         env.filling_depth_bound / env.tolerance);
       if (env.fillings_refined > 0) notes += format(" | fillings refined %zu", env.fillings_refined);
+      if (env.uncertified_vertices_moved > 0) notes += format(" | moved onto the boundary %zu", env.uncertified_vertices_moved);
       if (env.resweeps > 0)
         notes += format(" | resweeps %zu (eps_t = eps / %.0f)", env.resweeps, env.tolerance / env.tessellation_tolerance);
       if (!env.cavity_uncertified.empty())
@@ -479,7 +483,8 @@ std::string runCase(const Case& c, long index, const Options& opt) {
   std::fprintf(stderr,
                "steady_sweep_stress: %s\n"
                "usage: steady_sweep_stress (--first I [--end J] | --case MESH KIND SEED REL [--mesh-file F]\n"
-               "       [--motion-file F]) [--dense] [--all-vertices] [--repro-dir DIR] [--log FILE] [--list]\n",
+               "       [--motion-file F]) [--dense] [--all-vertices] [--refinements N] [--repro-dir DIR] [--log FILE]\n"
+               "       [--list]\n",
                why.c_str());
   std::exit(2);
 }
@@ -530,6 +535,7 @@ int main(int argc, char** argv) {
     else if (a == "--motion-file") opt.motion_file = value();
     else if (a == "--dense") opt.dense = true;
     else if (a == "--all-vertices") opt.all_vertices = true;
+    else if (a == "--refinements") opt.refinements = static_cast<int>(toLong(value()));
     else if (a == "--repro-dir") opt.repro_dir = value();
     else if (a == "--log") opt.log = value();
     else if (a == "--list") list = true;
