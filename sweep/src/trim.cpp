@@ -5130,8 +5130,8 @@ std::size_t detail::settleVertices(std::vector<Vec>& V, const std::vector<Tri>& 
       return ok;
     };
     // Towards y across the boundary: the crossing b on the segment, then points short of it.
-    auto settleTowards = [&](const Vec& y) {
-      Vec lo = x, hi = y;
+    auto settleTowards = [&](const Vec& far) {
+      Vec lo = x, hi = far;
       while ((hi - lo).norm() > kSettleBracket * eps) {
         const Vec mid = 0.5 * (lo + hi);
         (inside(mid) == in ? lo : hi) = mid;
