@@ -853,6 +853,7 @@ SweepOutput sweepCommand(const SweepRequest& request) {
   tolerance["body_diagonal"] = outputNumber(diagonal);
   report["tolerance"] = std::move(tolerance);
   report["resweeps"] = envelope.resweeps;
+  report["spans_refined"] = envelope.spans_refined;
   report["spans"] = envelope.spans;
   report["cycle_triangles"] = envelope.cycle_triangles;
   report["intersecting_pairs"] = envelope.intersecting_pairs;
@@ -965,7 +966,11 @@ SweepOutput sweepCommand(const SweepRequest& request) {
       num(envelope.area) + " (tolerance " + num(envelope.tolerance) + " = " + num(relative) +
       " x body diagonal) written to " + request.output + (request.binary ? " (binary)" : "") + " in " + seconds +
       (envelope.resweeps > 0 ? " after " + count(envelope.resweeps, "re-sweep", "re-sweeps") +
-                                   " (tessellation tolerance " + num(envelope.tessellation_tolerance) + ")"
+                                   " (tessellation tolerance " + num(envelope.tessellation_tolerance) +
+                                   (envelope.spans > 1 && envelope.spans_refined > 0 ? " on " + count(envelope.spans_refined, "span", "spans") +
+                                                             " of " + std::to_string(envelope.spans)
+                                                       : std::string()) +
+                                   ")"
                              : std::string()) +
       "; check: " + checkSummary(envelope.check, request.check) +
       uncertifiedWarning(envelope);

@@ -340,7 +340,7 @@ int main(int argc, char** argv) {
       "filling was taken with a probe that is not (deep_fillings_taken); a progress bar is drawn there\n"
       "when it is a terminal and the sweep takes more than a second.\n"
       "Report: {\"volume\", \"area\", \"vertices\", \"faces\", \"tolerance\": {\"absolute\", \"relative\",\n"
-      "  \"body_diagonal\"}, \"spans\", \"cycle_triangles\", \"intersecting_pairs\", \"arrangement_triangles\",\n"
+      "  \"tessellation\", \"body_diagonal\"}, \"resweeps\", \"spans_refined\", \"spans\", \"cycle_triangles\", \"intersecting_pairs\", \"arrangement_triangles\",\n"
       "  \"patches\", \"ray_retries\", \"patches_by_ray\", \"label_mismatches\", \"thin_cavities_removed\",\n"
       "  \"thin_solids_removed\", \"buried_patches_removed\", \"crack_faces_removed\", \"buried_patches_kept\",\n"
       "  \"crack_faces_kept\", \"kept_wall_vertices\", \"kept_wall_depth_bound\" (null: beyond 8 x tolerance),\n"

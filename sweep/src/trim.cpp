@@ -4995,6 +4995,12 @@ struct Draft {
   // The listed vertices (kept_wall_uncertified, then cavity_uncertified) with a finite bound,
   // each with the probe found across the boundary at its bound.
   std::vector<std::pair<int, Vec>> across;
+  // The sweep cycle's triangles as appended span by span (before opposite triangles cancel),
+  // span i's being sheet_triangles[span_end[i - 1], span_end[i]); left empty for a single span.
+  // Re-sweeps refine the spans whose triangles pass near the points listed (see refinedSpans).
+  std::vector<Vec> sheet_vertices;
+  std::vector<Tri> sheet_triangles;
+  std::vector<std::size_t> span_end;
 };
 
 // The vertices of the shells of (V, T) other than the one of largest signed volume, in
@@ -5160,6 +5166,27 @@ std::size_t detail::settleVertices(std::vector<Vec>& V, const std::vector<Tri>& 
     moved += done;
   }
   return moved;
+}
+
+std::vector<char> detail::spansNear(const std::vector<Vec>& points, const std::vector<Vec>& vertices,
+                                    const std::vector<Tri>& triangles, const std::vector<std::size_t>& span_end,
+                                    double reach) {
+  std::vector<char> near(span_end.size(), 0);
+  std::size_t begin = 0;
+  for (std::size_t i = 0; i < span_end.size(); ++i) {
+    for (std::size_t k = begin; k < span_end[i] && !near[i]; ++k) {
+      const Tri& t = triangles[k];
+      const Vec lo = vertices[t[0]].cwiseMin(vertices[t[1]]).cwiseMin(vertices[t[2]]).array() - reach;
+      const Vec hi = vertices[t[0]].cwiseMax(vertices[t[1]]).cwiseMax(vertices[t[2]]).array() + reach;
+      for (const Vec& x : points)
+        if ((x.array() >= lo.array()).all() && (x.array() <= hi.array()).all()) {
+          near[i] = 1;
+          break;
+        }
+    }
+    begin = std::max(begin, span_end[i]);
+  }
+  return near;
 }
 
 namespace {
@@ -5500,23 +5527,50 @@ bool better(const Envelope& a, const Envelope& b, std::size_t cap) {
   return key(a) < key(b);
 }
 
-// Sweeps (sweep(eps_t, cap): the draft envelope for the tessellation tolerance eps_t, its
-// certificates given up past `cap` points: doubt_cap when a re-sweep is allowed, see doubt.hpp)
-// with eps_t = kTessellationShare
-// ε, then, while the envelope leaves doubt and options.refinements allows, again with half the
-// tolerance each time; returns the best envelope (the earliest among equals), its certificates
-// completed, with `resweeps` and the whole call's time. A re-sweep that throws (a finer grid
-// exceeding max_steps) ends the series with what came before. Certificates are given up only
-// when a re-sweep is allowed, and finished only on the envelope returned.
+// The spans a re-sweep refines after `d`: those near the points it lists (detail::spansNear,
+// kRefineReach ε) when they are at most detail::kRefineFew of the spans; all of them when they
+// are more or none, when `d` lists nothing (its check failed), when its count reached `cap` (the
+// list is incomplete), or when it kept no cycle by span (a single span).
+std::vector<char> refinedSpans(const Draft& d, std::size_t spans, double eps, std::size_t cap) {
+  const Envelope& e = d.env;
+  const std::size_t listed = uncertified(e);
+  if (listed == 0 || listed >= cap || d.span_end.size() != spans) return std::vector<char>(spans, 1);
+  std::vector<Vec> points;
+  for (const auto* l : {&e.kept_wall_uncertified, &e.cavity_uncertified})
+    for (const int v : *l) points.push_back(e.vertices[static_cast<std::size_t>(v)]);
+  for (const auto* l : {&e.kept_wall_faces_uncertified, &e.cavity_faces_uncertified})
+    for (const int f : *l) {
+      const Tri& t = e.triangles[static_cast<std::size_t>(f)];
+      points.push_back((e.vertices[t[0]] + e.vertices[t[1]] + e.vertices[t[2]]) / 3.0);
+    }
+  std::vector<char> near =
+      detail::spansNear(points, d.sheet_vertices, d.sheet_triangles, d.span_end, detail::kRefineReach * eps);
+  const auto count = static_cast<double>(std::count(near.begin(), near.end(), 1));
+  if (count == 0 || count > detail::kRefineFew * static_cast<double>(spans)) std::fill(near.begin(), near.end(), 1);
+  return near;
+}
+
+// Sweeps (sweep(eps_t, cap): the draft envelope for the tessellation tolerances eps_t of the
+// spans, its certificates given up past `cap` points: doubt_cap when a re-sweep is allowed, see
+// doubt.hpp) with eps_t = kTessellationShare ε on every span, then, while the envelope leaves
+// doubt and options.refinements allows, again with half the tolerance on the spans that
+// refinedSpans picks from the sweep just run; returns the best envelope (the earliest among
+// equals), its certificates completed, with `resweeps`, `spans_refined` and the whole call's
+// time. A re-sweep that throws (a finer grid exceeding max_steps) ends the series with what
+// came before. Certificates are given up only when a re-sweep is allowed, and finished only on
+// the envelope returned.
 template <class Sweep>
-Envelope sweepWithRefinements(const SweepOptions& options, double eps, const SweptVolume& swept,
+Envelope sweepWithRefinements(const SweepOptions& options, double eps, std::size_t spans, const SweptVolume& swept,
                               std::chrono::steady_clock::time_point t_start, std::size_t doubt_cap, Sweep&& sweep) {
   const std::size_t cap = options.refinements > 0 ? doubt_cap : std::numeric_limits<std::size_t>::max();
-  double eps_t = kTessellationShare * eps;
+  std::vector<double> eps_t(spans, kTessellationShare * eps);
+  std::vector<char> refined(spans, 0);  // per span: eps_t below the first sweep's
   Draft best = sweep(eps_t, cap);
-  std::size_t resweeps = 0;
+  std::size_t best_refined = 0, resweeps = 0;
+  std::vector<char> refine = refinedSpans(best, spans, eps, cap);
   while (doubtful(best.env) && static_cast<int>(resweeps) < options.refinements) {
-    eps_t *= 0.5;
+    for (std::size_t i = 0; i < spans; ++i)
+      if (refine[i]) eps_t[i] *= 0.5, refined[i] = 1;
     ++resweeps;
     Draft next;
     try {
@@ -5524,7 +5578,11 @@ Envelope sweepWithRefinements(const SweepOptions& options, double eps, const Swe
     } catch (const Error&) {
       break;
     }
-    if (better(next.env, best.env, cap)) best = std::move(next);
+    refine = refinedSpans(next, spans, eps, cap);
+    if (better(next.env, best.env, cap)) {
+      best = std::move(next);
+      best_refined = static_cast<std::size_t>(std::count(refined.begin(), refined.end(), 1));
+    }
   }
   if (best.partial) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -5532,6 +5590,7 @@ Envelope sweepWithRefinements(const SweepOptions& options, double eps, const Swe
     best.env.timings.output += seconds(t0);
   }
   best.env.resweeps = resweeps;
+  best.env.spans_refined = best_refined;
   best.env.timings.total = seconds(t_start);
   return std::move(best.env);
 }
@@ -5545,14 +5604,16 @@ Envelope detail::sweptEnvelope(const Body& body, const Motion3& motion, const Sw
   const double eps = resolveTolerance(body, options);
   const std::size_t n = motion.spanCount();
   const SweptVolume swept(body, motion);
-  return sweepWithRefinements(options, eps, swept, t_start, doubt_cap, [&](double eps_t, std::size_t cap) {
+  return sweepWithRefinements(options, eps, n, swept, t_start, doubt_cap, [&](const std::vector<double>& eps_t,
+                                                                                std::size_t cap) {
     const auto t_cycle = std::chrono::steady_clock::now();
     detail::Cycle cycle;
+    std::vector<std::size_t> span_end;
     // Each span's plan is used by its own cycle and by its neighbours' joints.
     auto plan = [&](std::size_t i) {
       // Joints use the next span's start pose, so that consecutive caps coincide exactly.
       const Affine3 end = i + 1 < n ? motion.span(i + 1).start() : Affine3();
-      return detail::planSpan(body, motion.span(i), i + 1 < n ? &end : nullptr, eps_t, options.grazing,
+      return detail::planSpan(body, motion.span(i), i + 1 < n ? &end : nullptr, eps_t[i], options.grazing,
                               options.max_steps, static_cast<int>(i));
     };
     detail::SpanPlanPtr before, here = plan(0), after;
@@ -5560,11 +5621,29 @@ Envelope detail::sweptEnvelope(const Body& body, const Motion3& motion, const Sw
       if (options.progress) options.progress({"cycle", static_cast<double>(i) / static_cast<double>(n)});
       after = i + 1 < n ? plan(i + 1) : nullptr;
       detail::appendSpanCycle(cycle, before.get(), *here, after.get());
+      span_end.push_back(cycle.triangles.size());
       before = std::move(here);
       here = std::move(after);
     }
+    std::vector<Vec> sheet_vertices;
+    std::vector<Tri> sheet_triangles;
+    if (n > 1 && options.refinements > 0) {
+      sheet_vertices = cycle.vertices;
+      sheet_triangles = cycle.triangles;
+    }
     if (n > 1) detail::cancelOpposite(cycle);
-    return envelopeOf(std::move(cycle), eps, eps_t, n, swept, options, t_cycle, seconds(t_cycle), cap);
+    // The probes of the output stage take the coarsest tolerance: a face of the true envelope
+    // lies within its own span's tolerance of the true boundary, so a probe scaled to a finer
+    // one could find it buried.
+    const double coarsest = *std::max_element(eps_t.begin(), eps_t.end());
+    Draft d = envelopeOf(std::move(cycle), eps, coarsest, n, swept, options, t_cycle, seconds(t_cycle), cap);
+    d.env.tessellation_tolerance = *std::min_element(eps_t.begin(), eps_t.end());
+    if (!sheet_triangles.empty()) {
+      d.sheet_vertices = std::move(sheet_vertices);
+      d.sheet_triangles = std::move(sheet_triangles);
+      d.span_end = std::move(span_end);
+    }
+    return d;
   });
 }
 
@@ -5576,14 +5655,15 @@ Envelope sweptEnvelope(const Body& body, const Span3& span, const SweepOptions& 
   const auto t_start = std::chrono::steady_clock::now();
   const double eps = resolveTolerance(body, options);
   const SweptVolume swept(body, span);
-  return sweepWithRefinements(options, eps, swept, t_start, detail::kDoubtCap, [&](double eps_t, std::size_t cap) {
+  return sweepWithRefinements(options, eps, 1, swept, t_start, detail::kDoubtCap, [&](const std::vector<double>& eps_t,
+                                                                                      std::size_t cap) {
     const auto t_cycle = std::chrono::steady_clock::now();
     detail::Cycle cycle;
     if (options.progress) options.progress({"cycle", 0.0});
     detail::appendSpanCycle(cycle, nullptr,
-                            *detail::planSpan(body, span, nullptr, eps_t, options.grazing, options.max_steps, 0),
+                            *detail::planSpan(body, span, nullptr, eps_t[0], options.grazing, options.max_steps, 0),
                             nullptr);
-    return envelopeOf(std::move(cycle), eps, eps_t, 1, swept, options, t_cycle, seconds(t_cycle), cap);
+    return envelopeOf(std::move(cycle), eps, eps_t[0], 1, swept, options, t_cycle, seconds(t_cycle), cap);
   });
 }
 

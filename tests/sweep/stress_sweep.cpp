@@ -416,7 +416,8 @@ std::string runCase(const Case& c, long index, const Options& opt) {
       if (env.fillings_refined > 0) notes += format(" | fillings refined %zu", env.fillings_refined);
       if (env.uncertified_vertices_moved > 0) notes += format(" | moved onto the boundary %zu", env.uncertified_vertices_moved);
       if (env.resweeps > 0)
-        notes += format(" | resweeps %zu (eps_t = eps / %.0f)", env.resweeps, env.tolerance / env.tessellation_tolerance);
+        notes += format(" | resweeps %zu (eps_t = eps / %.0f on %zu of %zu spans)", env.resweeps,
+                        env.tolerance / env.tessellation_tolerance, env.spans_refined, env.spans);
       if (!env.cavity_uncertified.empty())
         notes += format(" | cavity vertices %zu, %zu uncertified, bound %.3g eps", env.cavity_vertices,
                         env.cavity_uncertified.size(), env.cavity_depth_bound / env.tolerance);

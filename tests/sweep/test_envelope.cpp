@@ -1060,7 +1060,9 @@ TEST(Envelope, DeepKeptWallsAreReported) {
 // leave doubt on their first sweep (kept-wall face centroids not certified within eps). By default they are swept
 // again with a finer tessellation, and the envelope returned is certified throughout and
 // passes the campaign's oracle (sampled containment, every vertex on the true boundary, face
-// sides). With refinements = 0 the first sweep comes back as it was.
+// sides). Every span is refined: the polySAM's doubtful points lie near one of its two spans,
+// more than kRefineFew of them (see ReSweepsRefineOnlyTheSpansNearTheDoubt). With
+// refinements = 0 the first sweep comes back as it was.
 TEST(Envelope, DoubtfulEnvelopesAreSweptAgain) {
   const Mesh m = torus(0.7, 0.25, 12, 6);
   const struct {
@@ -1068,17 +1070,20 @@ TEST(Envelope, DoubtfulEnvelopesAreSweptAgain) {
     double rel;
     const char* name;
     std::uint64_t seed;
-  } cases[] = {{thinLayersMotion(), 1e-3, "torus polySAM, thin outside layers", 604},
-               {resweptScrewMotion(), 1e-3, "torus screw, kept-wall faces", 48210}};
+    std::size_t spans_refined;
+  } cases[] = {{thinLayersMotion(), 1e-3, "torus polySAM, thin outside layers", 604, 2},
+               {resweptScrewMotion(), 1e-3, "torus screw, kept-wall faces", 48210, 1}};
   for (const auto& c : cases) {
     const Envelope first = sweep(m, c.motion, c.rel, 0);
     EXPECT_EQ(first.resweeps, 0u) << c.name;
+    EXPECT_EQ(first.spans_refined, 0u) << c.name;
     EXPECT_DOUBLE_EQ(first.tessellation_tolerance, 0.5 * first.tolerance) << c.name;
     EXPECT_FALSE(first.kept_wall_uncertified.empty() && first.kept_wall_faces_uncertified.empty())
         << c.name << ": the first sweep leaves no doubt any more: pick another case";
     const Envelope env = sweep(m, c.motion, c.rel);
     EXPECT_GE(env.resweeps, 1u) << c.name;
     EXPECT_LT(env.tessellation_tolerance, first.tessellation_tolerance) << c.name;
+    EXPECT_EQ(env.spans_refined, c.spans_refined) << c.name << " (of " << env.spans << " spans)";
     EXPECT_TRUE(env.kept_wall_uncertified.empty()) << c.name << ": " << env.kept_wall_uncertified.size();
     EXPECT_TRUE(env.kept_wall_faces_uncertified.empty()) << c.name << ": " << env.kept_wall_faces_uncertified.size();
     EXPECT_TRUE(env.cavity_uncertified.empty()) << c.name;
@@ -1088,11 +1093,52 @@ TEST(Envelope, DoubtfulEnvelopesAreSweptAgain) {
     CheckOptions co;
     co.expected_euler = 99;  // (a polySAM of a torus may close its handle)
     checkEnvelope(m, c.motion, env, epsOf(m, c.rel), rng, c.name, co);
-    std::printf("[ info     ] %s: first sweep %zu + %zu uncertified; %zu re-sweep(s), eps_t = eps / %.0f, %zu kept-wall "
-                "vertices\n",
+    std::printf("[ info     ] %s: first sweep %zu + %zu uncertified; %zu re-sweep(s), eps_t = eps / %.0f on %zu of %zu "
+                "spans, %zu kept-wall vertices\n",
                 c.name, first.kept_wall_uncertified.size(), first.kept_wall_faces_uncertified.size(), env.resweeps,
-                env.tolerance / env.tessellation_tolerance, env.kept_wall_vertices);
+                env.tolerance / env.tessellation_tolerance, env.spans_refined, env.spans, env.kept_wall_vertices);
   }
+}
+
+// Along a motion of many spans a re-sweep refines only the spans near the points the sweep
+// before it listed (detail::spansNear, kRefineFew). The torus polySAM of
+// DoubtfulEnvelopesAreSweptAgain, whose doubt lies near its second span, continued by six
+// translations of about one torus diameter each along the torus's axis: 8 spans, of which the re-sweep refines
+// at most 2 (it refines 1), and the envelope returned is certified throughout and passes the
+// campaign's oracle. Refining every span fails the count (8 refined, though the envelope then
+// passes too: 17,894 triangles against 14,826); refining none leaves the doubt.
+TEST(Envelope, ReSweepsRefineOnlyTheSpansNearTheDoubt) {
+  const Mesh m = torus(0.7, 0.25, 12, 6);
+  std::vector<Affine3> poses;
+  const Motion3 head = thinLayersMotion();
+  for (std::size_t i = 0; i < head.spanCount(); ++i) poses.push_back(head.span(i).start());
+  const auto& tail = head.span(head.spanCount() - 1);
+  const Affine3 last = tail.relative() * tail.start();
+  poses.push_back(last);
+  // (along the torus's axis, so that the translations leave no cavity)
+  const V axis = (last.linear() * V(0, 0, 1)).normalized();
+  for (int k = 1; k <= 6; ++k) poses.push_back(Affine3::translation(2.0 * k * axis) * last);
+  const Motion3 motion = Motion3::polySam(poses);
+  ASSERT_EQ(motion.spanCount(), 8u);
+  const Envelope first = sweep(m, motion, 1e-3, 0);
+  EXPECT_FALSE(first.kept_wall_uncertified.empty() && first.kept_wall_faces_uncertified.empty())
+      << "the first sweep leaves no doubt any more: pick another case";
+  const Envelope env = sweep(m, motion, 1e-3);
+  EXPECT_GE(env.resweeps, 1u);
+  EXPECT_GE(env.spans_refined, 1u);
+  EXPECT_LE(env.spans_refined, 2u);
+  EXPECT_TRUE(env.kept_wall_uncertified.empty()) << env.kept_wall_uncertified.size();
+  EXPECT_TRUE(env.kept_wall_faces_uncertified.empty()) << env.kept_wall_faces_uncertified.size();
+  EXPECT_TRUE(env.cavity_uncertified.empty());
+  EXPECT_TRUE(env.cavity_faces_uncertified.empty());
+  std::mt19937_64 rng(604);
+  CheckOptions co;
+  co.expected_euler = 99;  // (a polySAM of a torus may close its handle)
+  checkEnvelope(m, motion, env, epsOf(m, 1e-3), rng, "torus polySAM of 8 spans", co);
+  std::printf("[ info     ] torus polySAM of 8 spans: first sweep %zu + %zu uncertified; %zu re-sweep(s), %zu spans "
+              "refined; %zu triangles against %zu\n",
+              first.kept_wall_uncertified.size(), first.kept_wall_faces_uncertified.size(), env.resweeps,
+              env.spans_refined, env.triangles.size(), first.triangles.size());
 }
 
 // Re-sweeps stop certifying an envelope past detail::kDoubtCap points deeper than eps, and
