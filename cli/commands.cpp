@@ -749,6 +749,12 @@ std::string uncertifiedWarning(const steady::sweep::Envelope& e) {
   return out;
 }
 
+// " on N of M spans" when a re-sweep refined some of a motion's spans (Envelope::spans_refined).
+std::string refinedSpans(const steady::sweep::Envelope& envelope) {
+  if (envelope.spans < 2 || envelope.spans_refined == 0) return {};
+  return " on " + std::to_string(envelope.spans_refined) + " of " + std::to_string(envelope.spans) + " spans";
+}
+
 }  // namespace
 
 SweepOutput sweepCommand(const SweepRequest& request) {
@@ -967,10 +973,7 @@ SweepOutput sweepCommand(const SweepRequest& request) {
       " x body diagonal) written to " + request.output + (request.binary ? " (binary)" : "") + " in " + seconds +
       (envelope.resweeps > 0 ? " after " + count(envelope.resweeps, "re-sweep", "re-sweeps") +
                                    " (tessellation tolerance " + num(envelope.tessellation_tolerance) +
-                                   (envelope.spans > 1 && envelope.spans_refined > 0 ? " on " + count(envelope.spans_refined, "span", "spans") +
-                                                             " of " + std::to_string(envelope.spans)
-                                                       : std::string()) +
-                                   ")"
+                                   refinedSpans(envelope) + ")"
                              : std::string()) +
       "; check: " + checkSummary(envelope.check, request.check) +
       uncertifiedWarning(envelope);

@@ -311,7 +311,8 @@ int main(int argc, char** argv) {
   sweep->add_option("--refinements", sweep_request.refinements,
                     "Sweeps run again, each with a tessellation twice as fine, when the envelope leaves doubt "
                     "(its check fails, or some vertex or face centroid on kept walls or inner shells is not "
-                    "certified within the tolerance); the best envelope is written. 0: never; default 2")
+                    "certified within the tolerance); the best envelope is written. Along many spans only those "
+                    "near the doubtful points may be refined (the report's spans_refined). 0: never; default 2")
       ->type_name("N")
       ->check(wholeNumber(8, ""));
   bool sweep_no_check = false;
@@ -340,7 +341,8 @@ int main(int argc, char** argv) {
       "filling was taken with a probe that is not (deep_fillings_taken); a progress bar is drawn there\n"
       "when it is a terminal and the sweep takes more than a second.\n"
       "Report: {\"volume\", \"area\", \"vertices\", \"faces\", \"tolerance\": {\"absolute\", \"relative\",\n"
-      "  \"tessellation\", \"body_diagonal\"}, \"resweeps\", \"spans_refined\", \"spans\", \"cycle_triangles\", \"intersecting_pairs\", \"arrangement_triangles\",\n"
+      "  \"tessellation\", \"body_diagonal\"}, \"resweeps\", \"spans_refined\", \"spans\", \"cycle_triangles\",\n"
+      "  \"intersecting_pairs\", \"arrangement_triangles\",\n"
       "  \"patches\", \"ray_retries\", \"patches_by_ray\", \"label_mismatches\", \"thin_cavities_removed\",\n"
       "  \"thin_solids_removed\", \"buried_patches_removed\", \"crack_faces_removed\", \"buried_patches_kept\",\n"
       "  \"crack_faces_kept\", \"kept_wall_vertices\", \"kept_wall_depth_bound\" (null: beyond 8 x tolerance),\n"

@@ -1,6 +1,6 @@
 #pragma once
-// How far the re-sweeps (SweepOptions::refinements) measure an envelope they may replace.
-// Internal to steady::sweep.
+// How far the re-sweeps (SweepOptions::refinements) measure an envelope they may replace, and
+// which spans they refine. Internal to steady::sweep.
 //
 // Certifying the walls and inner shells an envelope keeps costs little per point that lies
 // within ε of the true boundary, and a great deal per point that does not: the depth bound
@@ -42,7 +42,7 @@ constexpr double kRefineReach = 8;
 /// A re-sweep refines only the spans near the doubtful points when they are at most this share
 /// of the spans, and every span otherwise. Refining fewer spans re-tessellates less, but it
 /// also changes which cracks a re-sweep happens to close. On the seeded campaign's polySAMs (2
-/// or 3 spans; 153 cases with re-sweeps, each run both ways on the same machine) refining the
+/// or 3 spans; 153 cases, 107 of them re-swept, each run both ways at once) refining the
 /// near spans alone saved 7 to 8% of their time while one more case in 61 and one more in 92
 /// failed (each reported). Along the bundled `keys.json` (112 spans) the elephant's re-sweeps
 /// refined 28 spans, and its sweep took 32 to 33 s instead of 40 to 46 s and 0.70 GB instead
