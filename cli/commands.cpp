@@ -750,7 +750,7 @@ std::string uncertifiedWarning(const steady::sweep::Envelope& e) {
 }
 
 // " on N of M spans" when a re-sweep refined some of a motion's spans (Envelope::spans_refined).
-std::string refinedSpans(const steady::sweep::Envelope& envelope) {
+std::string refinedSpansNote(const steady::sweep::Envelope& envelope) {
   if (envelope.spans < 2 || envelope.spans_refined == 0) return {};
   return " on " + std::to_string(envelope.spans_refined) + " of " + std::to_string(envelope.spans) + " spans";
 }
@@ -973,7 +973,7 @@ SweepOutput sweepCommand(const SweepRequest& request) {
       " x body diagonal) written to " + request.output + (request.binary ? " (binary)" : "") + " in " + seconds +
       (envelope.resweeps > 0 ? " after " + count(envelope.resweeps, "re-sweep", "re-sweeps") +
                                    " (tessellation tolerance " + num(envelope.tessellation_tolerance) +
-                                   refinedSpans(envelope) + ")"
+                                   refinedSpansNote(envelope) + ")"
                              : std::string()) +
       "; check: " + checkSummary(envelope.check, request.check) +
       uncertifiedWarning(envelope);
