@@ -42,8 +42,8 @@ constexpr double kRefineReach = 8;
 /// A re-sweep refines only the spans near the doubtful points when they are at most this share
 /// of the spans, and every span otherwise. Refining fewer spans re-tessellates less, but it
 /// also changes which cracks a re-sweep happens to close. On the seeded campaign's polySAMs (2
-/// or 3 spans; 153 cases, 107 of them re-swept, each run both ways at once) refining the
-/// near spans alone saved 7 to 8% of their time while one more case in 61 and one more in 92
+/// or 3 spans; 183 cases, 116 of them re-swept, each run both ways at once) refining the
+/// near spans alone saved 6 to 7% of their time while one more case in 61 and one more in 122
 /// failed (each reported). Along the bundled `keys.json` (112 spans) the elephant's re-sweeps
 /// refined 28 spans, and its sweep took 32 to 33 s instead of 40 to 46 s and 0.70 GB instead
 /// of 0.99 GB, with as many points listed (two runs each, alternating).
