@@ -5,7 +5,7 @@
 # case's lines to LOG, then prints the counts of this run and the cases that did not pass.
 #
 # Usage: scripts/stress-sweep.sh [FIRST [END]] [steady_sweep_stress options: --dense,
-#        --all-vertices, --repro-dir DIR]
+#        --all-vertices, --repro-dir DIR, --smooth (the second table: smooth keyframe motions)]
 # Environment: BUILD_DIR (default build/), JOBS (cases at a time, default nproc), LIMIT (seconds
 # per case, default 300), LOG (default $BUILD_DIR/stress-sweep.log).
 # A CRASH is a case whose process ended otherwise than by PASS, VOID, SKIP (exit 0) or FAIL,
@@ -31,7 +31,7 @@ run_case() {
   shift
   timeout "$limit" "$bin" --first "$i" --log "$log" "$@" >/dev/null 2>&1 || rc=$?
   if ((rc > 1)); then
-    echo "CRASH $("$bin" --first "$i" --list | cut -d' ' -f2) case=$i rc=$rc" >>"$log"
+    echo "CRASH $("$bin" --first "$i" --list "$@" | cut -d' ' -f2) case=$i rc=$rc" >>"$log"
   fi
 }
 export -f run_case

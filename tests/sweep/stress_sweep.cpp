@@ -5,6 +5,8 @@
 // time limit (a crash or a hang loses that case only), and summarises the log.
 //
 //   steady_sweep_stress --first I [--end J]     cases I .. J-1 of the table (default: case I)
+//   --smooth         with --first: the second table, smooth keyframe motions (see
+//                    smoothCaseOf); with --case, KIND "smooth" draws such a motion
 //   steady_sweep_stress --case MESH KIND SEED REL [--mesh-file F] [--motion-file F]
 //                                               one case by its parameters; the files (as
 //                                               written by --repro-dir) replace the generated
@@ -99,6 +101,19 @@ Case caseOf(long i) {
   return c;
 }
 
+// Case i of the second table (--smooth): every mesh in turn along a smooth keyframe motion of
+// its own (see randomSmoothMotion), the tolerance alternating as in the first table.
+Case smoothCaseOf(long i) {
+  const long round = i / kMeshCount;
+  const int m = static_cast<int>(i % kMeshCount);
+  Case c;
+  c.mesh = kMeshNames[m];
+  c.kind = "smooth";
+  c.seed = 1000003ull * static_cast<std::uint64_t>(round) + 101ull * static_cast<std::uint64_t>(m) + 11;
+  c.rel = (round + m) % 2 ? 2e-3 : 1e-3;
+  return c;
+}
+
 std::string format(const char* f, ...) __attribute__((format(printf, 1, 2)));
 std::string format(const char* f, ...) {
   va_list ap;
@@ -163,6 +178,32 @@ std::optional<Mesh> makeMesh(const std::string& name, std::uint64_t seed) {
   if (name == "convex") return randomConvex(rng, 10 + static_cast<int>(rng() % 7));
   if (name == "star") return starPrism(rng);
   throw std::logic_error("unknown mesh " + name);  // (names are checked with the arguments)
+}
+
+// A smooth keyframe motion as CAD and animation tools make them: a C1 bi-arc through five key
+// poses at t = 0, 1/4, .., 1, replaced by SAM spans within 1e-3 of the body's diagonal
+// (KeyframeMotion::toMotion; about 30 to 90 spans). From the identity, each key moves on by 0.3
+// to 0.9 along a direction that drifts; its rotation angle moves by up to 70 degrees from the
+// last key's, about an axis drawn anew at about half the keys; and one key in three is scaled
+// (0.8 to 1.25, uniformly or along x). Unlike the table's polySAMs (2 or 3 large spans),
+// consecutive spans nearly agree.
+Motion3 randomSmoothMotion(std::mt19937_64& rng, const steady::Box<3>& body) {
+  std::vector<steady::Keyframe<3>> keys{{0.0, steady::Affine3()}};
+  V pos = V::Zero(), dir = randomUnit(rng), axis = randomUnit(rng);
+  double angle = 0;
+  for (int k = 1; k <= 4; ++k) {
+    dir = (dir + 0.6 * randomUnit(rng)).normalized();
+    pos += uniform(rng, 0.3, 0.9) * dir;
+    angle += uniform(rng, -70, 70) * M_PI / 180;
+    if (uniform(rng, 0, 1) < 0.5) axis = randomUnit(rng);
+    steady::Affine3 pose = steady::Affine3::translation(pos) * steady::Affine3::rotation(axis, angle);
+    if (uniform(rng, 0, 1) < 1.0 / 3) {
+      const double f = uniform(rng, 0.8, 1.25);
+      pose = pose * steady::Affine3::scaling(uniform(rng, 0, 1) < 0.5 ? V(f, f, f) : V(f, 1, 1));
+    }
+    keys.push_back({k / 4.0, pose});
+  }
+  return steady::KeyframeMotion3(keys, steady::Interpolation::BiArc).toMotion(body);
 }
 
 MotionKind kindOf(const std::string& name) {
@@ -328,9 +369,10 @@ std::string runCase(const Case& c, long index, const Options& opt) {
   }
   const Mesh& mesh = *generated;
   std::mt19937_64 motion_rng(c.seed);
-  const Motion3 motion = opt.motion_file.empty()
-                             ? randomMotion(kindOf(c.kind), motion_rng)
-                             : steady::io::readMotionFile(opt.motion_file).motion().toMotion(makeBody(mesh).box());
+  const Motion3 motion = !opt.motion_file.empty()
+                             ? steady::io::readMotionFile(opt.motion_file).motion().toMotion(makeBody(mesh).box())
+                         : c.kind == "smooth" ? randomSmoothMotion(motion_rng, makeBody(mesh).box())
+                                              : randomMotion(kindOf(c.kind), motion_rng);
   // The checks draw from a generator of their own, so that the motion does not depend on them.
   std::mt19937_64 check_rng(c.seed * 6364136223846793005ull + 1442695040888963407ull);
   head += format(" tri_in=%zu spans=%zu", mesh.f.size(), motion.spanCount());
@@ -483,7 +525,7 @@ std::string runCase(const Case& c, long index, const Options& opt) {
 [[noreturn]] void usage(const std::string& why) {
   std::fprintf(stderr,
                "steady_sweep_stress: %s\n"
-               "usage: steady_sweep_stress (--first I [--end J] | --case MESH KIND SEED REL [--mesh-file F]\n"
+               "usage: steady_sweep_stress (--first I [--end J] [--smooth] | --case MESH KIND SEED REL [--mesh-file F]\n"
                "       [--motion-file F]) [--dense] [--all-vertices] [--refinements N] [--repro-dir DIR] [--log FILE]\n"
                "       [--list]\n",
                why.c_str());
@@ -508,7 +550,7 @@ int main(int argc, char** argv) {
   Options opt;
   long first = -1, end = -1;
   std::optional<Case> custom;
-  bool list = false;
+  bool list = false, smooth = false;
   std::vector<std::string> args(argv + 1, argv + argc);
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
@@ -529,7 +571,7 @@ int main(int argc, char** argv) {
       if (*stop != '\0' || !(c.rel > 0)) usage("not a positive tolerance: " + rel);
       if (std::find(std::begin(kMeshNames), std::end(kMeshNames), c.mesh) == std::end(kMeshNames))
         usage("unknown mesh " + c.mesh);
-      if (std::find(std::begin(kKindNames), std::end(kKindNames), c.kind) == std::end(kKindNames))
+      if (c.kind != "smooth" && std::find(std::begin(kKindNames), std::end(kKindNames), c.kind) == std::end(kKindNames))
         usage("unknown motion kind " + c.kind);
       custom = c;
     } else if (a == "--mesh-file") opt.mesh_file = value();
@@ -540,17 +582,19 @@ int main(int argc, char** argv) {
     else if (a == "--repro-dir") opt.repro_dir = value();
     else if (a == "--log") opt.log = value();
     else if (a == "--list") list = true;
+    else if (a == "--smooth") smooth = true;
     else usage("unknown argument " + a);
   }
   if (custom.has_value() == (first >= 0)) usage("give either --first or --case");
   if (!custom && end < 0) end = first + 1;
   if (!custom && end <= first) usage("--end must be greater than --first");
+  if (custom && smooth) usage("--smooth goes with --first (with --case, give KIND smooth)");
   if (!custom && !(opt.mesh_file.empty() && opt.motion_file.empty()))
     usage("--mesh-file and --motion-file go with --case");
 
   std::vector<std::pair<long, Case>> cases;
   if (custom) cases.emplace_back(-1, *custom);
-  for (long i = first; !custom && i < end; ++i) cases.emplace_back(i, caseOf(i));
+  for (long i = first; !custom && i < end; ++i) cases.emplace_back(i, smooth ? smoothCaseOf(i) : caseOf(i));
   bool failed = false;
   try {
     for (const auto& [index, c] : cases) {
