@@ -186,24 +186,31 @@ std::optional<Mesh> makeMesh(const std::string& name, std::uint64_t seed) {
 // to 0.9 along a direction that drifts; its rotation angle moves by up to 70 degrees from the
 // last key's, about an axis drawn anew at about half the keys; and one key in three is scaled
 // (0.8 to 1.25, uniformly or along x). Unlike the table's polySAMs (2 or 3 large spans),
-// consecutive spans nearly agree.
+// consecutive spans nearly agree. Keys whose bi-arc has no SAM somewhere (Error NoRealLog, e.g.
+// a half turn with a scaling between two of its poses) are drawn again.
 Motion3 randomSmoothMotion(std::mt19937_64& rng, const steady::Box<3>& body) {
-  std::vector<steady::Keyframe<3>> keys{{0.0, steady::Affine3()}};
-  V pos = V::Zero(), dir = randomUnit(rng), axis = randomUnit(rng);
-  double angle = 0;
-  for (int k = 1; k <= 4; ++k) {
-    dir = (dir + 0.6 * randomUnit(rng)).normalized();
-    pos += uniform(rng, 0.3, 0.9) * dir;
-    angle += uniform(rng, -70, 70) * M_PI / 180;
-    if (uniform(rng, 0, 1) < 0.5) axis = randomUnit(rng);
-    steady::Affine3 pose = steady::Affine3::translation(pos) * steady::Affine3::rotation(axis, angle);
-    if (uniform(rng, 0, 1) < 1.0 / 3) {
-      const double f = uniform(rng, 0.8, 1.25);
-      pose = pose * steady::Affine3::scaling(uniform(rng, 0, 1) < 0.5 ? V(f, f, f) : V(f, 1, 1));
+  for (;;) {
+    std::vector<steady::Keyframe<3>> keys{{0.0, steady::Affine3()}};
+    V pos = V::Zero(), dir = randomUnit(rng), axis = randomUnit(rng);
+    double angle = 0;
+    for (int k = 1; k <= 4; ++k) {
+      dir = (dir + 0.6 * randomUnit(rng)).normalized();
+      pos += uniform(rng, 0.3, 0.9) * dir;
+      angle += uniform(rng, -70, 70) * M_PI / 180;
+      if (uniform(rng, 0, 1) < 0.5) axis = randomUnit(rng);
+      steady::Affine3 pose = steady::Affine3::translation(pos) * steady::Affine3::rotation(axis, angle);
+      if (uniform(rng, 0, 1) < 1.0 / 3) {
+        const double f = uniform(rng, 0.8, 1.25);
+        pose = pose * steady::Affine3::scaling(uniform(rng, 0, 1) < 0.5 ? V(f, f, f) : V(f, 1, 1));
+      }
+      keys.push_back({k / 4.0, pose});
     }
-    keys.push_back({k / 4.0, pose});
+    try {
+      return steady::KeyframeMotion3(keys, steady::Interpolation::BiArc).toMotion(body);
+    } catch (const steady::Error& e) {
+      if (e.code() != steady::ErrorCode::NoRealLog) throw;
+    }
   }
-  return steady::KeyframeMotion3(keys, steady::Interpolation::BiArc).toMotion(body);
 }
 
 MotionKind kindOf(const std::string& name) {
