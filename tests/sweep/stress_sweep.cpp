@@ -182,10 +182,10 @@ std::optional<Mesh> makeMesh(const std::string& name, std::uint64_t seed) {
 
 // A smooth keyframe motion as CAD and animation tools make them: a C1 bi-arc through five key
 // poses at t = 0, 1/4, .., 1, replaced by SAM spans within 1e-3 of the body's diagonal
-// (KeyframeMotion::toMotion; 24 to 128 spans in cases 0-359). From the identity, each key moves on by 0.3
-// to 0.9 along a direction that drifts; its rotation angle moves by up to 70 degrees from the
-// last key's, about an axis drawn anew at about half the keys; and one key in three is scaled
-// (0.8 to 1.25, uniformly or along x). Unlike the table's polySAMs (2 or 3 large spans),
+// (KeyframeMotion::toMotion; 24 to 128 spans in cases 0-899). From the identity, each key
+// moves on by 0.3 to 0.9 along a direction that drifts; its rotation angle moves by up to 70
+// degrees from the last key's, about an axis drawn anew at about half the keys; and one key
+// in three is scaled (0.8 to 1.25, uniformly or along x). Unlike the table's polySAMs (2 or 3 large spans),
 // consecutive spans nearly agree. Keys whose bi-arc has no SAM somewhere (Error NoRealLog, e.g.
 // a half turn with a scaling between two of its poses) are drawn again.
 Motion3 randomSmoothMotion(std::mt19937_64& rng, const steady::Box<3>& body) {
