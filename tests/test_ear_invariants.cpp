@@ -218,3 +218,42 @@ TEST(InvariantsLargeT, SeriesFormUsesSquaring) {
     }
   }
 }
+
+// phi(M)^-1 for a 2D block with real eigenvalues far apart, inverted eigenvalue by eigenvalue:
+// diag(x, 1) with t = (1, 1) has u = (ln x / (x - 1), 1). Through the determinant of phi(M) the
+// second coordinate lost about log10(x) digits (9e-13 at 1e6, 1.4e-10 at 1e8); the first keeps
+// the representation's own loss, about 1e-16 x / ln x.
+TEST(EarInvariants, PhiInverseOfFarApartEigenvalues) {
+  for (double x : {10.0, 1e3, 1e6, 1e8, 0.1, 1e-3, 1e-6}) {
+    const steady::Affine2 A(Eigen::Vector2d(x, 1).asDiagonal(), Eigen::Vector2d(1, 1));
+    const steady::AffineLog2 lg = steady::log(A);
+    const double u1 = std::log(x) / (x - 1);
+    const double scale = std::max(x, 1 / x);
+    EXPECT_NEAR(lg.u(1), 1.0, 4e-15) << x;
+    EXPECT_NEAR(lg.u(0), u1, 4e-16 * scale / std::abs(std::log(x)) * std::abs(u1) + 1e-15) << x;
+    EXPECT_NEAR(lg.M(1, 1), 0.0, 1e-15 * std::abs(std::log(x))) << x;
+  }
+}
+
+// A rotation scaled by k < 1 (a pose that shrinks): log = ln k 1 + theta [n]x. The 2D block's
+// determinant came from the offsets L - 1, which cancel for small k: the log was off by 5.8e-11
+// at k = 1e-3 and 3.6e-9 at 1e-4 (3D). From the entries it is within about u / k, times the
+// conditioning theta / sin theta of a rotation's log (21 at theta = 3: rounding R's entries
+// alone moves it by 6.7e-15 at k = 1).
+TEST(EarInvariants, ShrinkingRotationsKeepTheirDigits) {
+  const Eigen::Vector3d n = Eigen::Vector3d(1, 2, 3).normalized();
+  Eigen::Matrix3d K;
+  K << 0, -n.z(), n.y(), n.z(), 0, -n.x(), -n.y(), n.x(), 0;
+  for (double k : {0.5, 1e-1, 1e-2, 1e-3, 1e-4, 1e-5}) {
+    for (double theta : {0.3, 2.0, 3.0}) {
+      const double bound = 4e-16 / k * theta / std::sin(theta);
+      const Eigen::Matrix3d L = k * Eigen::AngleAxisd(theta, n).toRotationMatrix();
+      const Eigen::Matrix3d M = std::log(k) * Eigen::Matrix3d::Identity() + theta * K;
+      EXPECT_LE((steady::log(steady::Affine3(L, Eigen::Vector3d(1, 2, 3))).M - M).norm(), bound) << k << " " << theta;
+      Eigen::Matrix2d L2, M2;
+      L2 << k * std::cos(theta), -k * std::sin(theta), k * std::sin(theta), k * std::cos(theta);
+      M2 << std::log(k), -theta, theta, std::log(k);
+      EXPECT_LE((steady::log(steady::Affine2(L2, Eigen::Vector2d(1, 2))).M - M2).norm(), bound) << k << " " << theta;
+    }
+  }
+}

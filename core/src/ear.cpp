@@ -40,6 +40,24 @@ constexpr double kTripleSpread = 0.02;
 constexpr double kSeriesSpreadMax = 0.25;
 // Hadamard ratio at or below which L counts as singular (same threshold as Affine::inverse).
 constexpr double kSingularRatio = 1e-14;
+// The range of affinities the closed forms take: every column of L, and t, at most kRange long
+// (else InvalidArgument), every column of L at least 1 / kRange long (else Singular: the pose
+// flattens the body by more than 1e30). The eigenvalue formulas raise
+// entries to the sixth power (the cubic's discriminant), which stays inside the double range
+// for |entries| <= 1e30 (the squared column norms of the singularity test as well). Beyond it
+// an intermediate overflowed or underflowed: diag(6e129, 1, 1) came out as a NaN logarithm
+// labelled "triple eigenvalue", and 1e300 I as "singular" (found by tests/fuzz/fuzz_ear.cpp).
+constexpr double kRange = 1e30;
+// Largest ratio of the moduli of L's eigenvalues the closed forms take. The translation part of
+// the log is a sum over the eigenvalues' parts, and loses about log10 of this ratio in digits
+// (diag(1e8, 1) with t = (1, 1): u relative error 1.3e-10; 1e12: 5e-7; 1e16: 1e-2). Beyond
+// 1e8 the answer would be wrong without saying so, hence an error instead.
+constexpr double kMaxStretchRatio = 1e8;
+// Smallest modulus of an eigenvalue of L the closed forms take. They work with the offsets
+// E = L - 1, whose rounding costs about u / |lambda| relative in a small eigenvalue lambda: a
+// rotation scaled by k has its log within 1.4e-13 at k = 1e-3, 1.7e-10 at 1e-6 and 1.7e-8 at
+// 1e-8 (3D; 2D about ten times better). Below 1e-6, an error instead.
+constexpr double kMinModulus = 1e-6;
 constexpr double kSeriesTiny = 0x1.0p-56;
 // Largest |t| rho (rho: spectral radius bound of the log's nilpotent-like part Z) for which a
 // span in series form sums its series directly (then at most about 30 terms).
@@ -81,8 +99,27 @@ bool screen(const Affine<D>& A, Failure& fail) {
     return false;
   }
   const auto& L = A.linear();
-  double prod2 = 1.0;  // product of squared column norms
-  for (int j = 0; j < D; ++j) prod2 *= L.col(j).squaredNorm();
+  // Squared lengths of L's columns and of t: the range, then the Hadamard ratio.
+  double lo2 = HUGE_VAL, hi2 = A.translation().squaredNorm(), prod2 = 1.0;
+  for (int j = 0; j < D; ++j) {
+    const double c2 = L.col(j).squaredNorm();
+    lo2 = std::min(lo2, c2);
+    hi2 = std::max(hi2, c2);
+    prod2 *= c2;
+  }
+  if (!(hi2 <= kRange * kRange)) {
+    fail = {ErrorCode::InvalidArgument,
+            "the affinity has a column of length " + fmt(std::sqrt(hi2)) +
+                ", beyond the 1e30 that steady's logarithm handles: express the poses in other units"};
+    return false;
+  }
+  if (!(lo2 >= 1 / (kRange * kRange))) {
+    fail = {ErrorCode::Singular,
+            "the linear part is singular (a column of L is " + fmt(std::sqrt(lo2)) +
+                " long, below 1e-30): it flattens the body, so no logarithm and no SAM exist; check "
+                "the pose for a zero column or for units that make it tiny"};
+    return false;
+  }
   const double det = L.determinant();
   if (!(prod2 > 0) || det * det <= kSingularRatio * kSingularRatio * prod2) {
     fail = {ErrorCode::Singular,
@@ -101,6 +138,31 @@ bool screen(const Affine<D>& A, Failure& fail) {
   return true;
 }
 
+// Whether the eigenvalues 1 + re_k + i im_k (k < n) of L have moduli of at least kMinModulus
+// and within kMaxStretchRatio of each other; fails with InvalidArgument otherwise.
+bool eigenvaluesInRange(const double* re, const double* im, int n, Failure& fail) {
+  double lo = HUGE_VAL, hi = 0;  // squared moduli (at most about 1e61 within kRange)
+  for (int k = 0; k < n; ++k) {
+    const double m2 = (1.0 + re[k]) * (1.0 + re[k]) + im[k] * im[k];
+    lo = std::min(lo, m2);
+    hi = std::max(hi, m2);
+  }
+  if (lo >= kMinModulus * kMinModulus && hi <= kMaxStretchRatio * kMaxStretchRatio * lo) return true;
+  lo = std::sqrt(lo), hi = std::sqrt(hi);
+  if (!(lo >= kMinModulus))
+    fail = {ErrorCode::InvalidArgument,
+            "the linear part shrinks some direction by a factor " + fmt(lo) +
+                " (an eigenvalue modulus below 1e-6); the logarithm would lose most of its digits: "
+                "use poses that differ less (insert intermediate poses), or other units"};
+  else
+    fail = {ErrorCode::InvalidArgument,
+            "the linear part stretches some direction " + fmt(hi / lo) +
+                " times more than another (eigenvalue moduli " + fmt(lo) + " to " + fmt(hi) +
+                "); beyond 1e8 the logarithm would lose most of its digits: use poses that differ "
+                "less (insert intermediate poses)"};
+  return false;
+}
+
 // log of a 2x2 block L2 = 1 + E: log L2 = alpha 1 + beta N with N = L2 - r 1 (traceless) and
 // N^2 = d 1; in the half-turn case N is the quarter turn +-J and d = -1, beta = pi.
 struct Block2Log {
@@ -116,15 +178,14 @@ struct Block2Log {
   double eta() const { return beta * beta * d; }
   /// phi(log L2)^-1 = p 1 + q N (q multiplies N itself, not beta N). For a well-conditioned log
   /// block X (Frobenius condition number below kViaInverseCondition) it is X (L2 - 1)^-1 =
-  /// (alpha + beta N)(r1 - sigma N) / det(L2 - 1), using N^2 = d; otherwise the inverse of
-  /// phiBlock's phi(X) = p' + q' beta N.
+  /// (alpha + beta N)(r1 - sigma N) / det(L2 - 1), using N^2 = d; otherwise phiBlockInverse's
+  /// phi(X)^-1 = p' + q' beta N.
   BlockCoefficients phiInverseOfLog() const {
     const double eta_ = eta();
     if (wellConditionedBlock(alpha, eta_, beta * beta * N.squaredNorm()) && std::abs(detE) > 1e-280)
       return {(alpha * r1 - sigma * beta * d) / detE, (beta * r1 - sigma * alpha) / detE};
-    const BlockCoefficients pq = detail::phiBlock(alpha, eta_, r1, s1, detE);
-    const double den = pq.p * pq.p - pq.q * pq.q * eta_;
-    return {pq.p / den, -pq.q * beta / den};
+    const BlockCoefficients inv = detail::phiBlockInverse(alpha, eta_, r1, s1, detE);
+    return {inv.p, inv.q * beta};
   }
 };
 
@@ -140,8 +201,17 @@ bool logBlock2(const Eigen::Matrix2d& E, const EarOptions& opt, Block2Log& out, 
   N << h, E(0, 1), E(1, 0), -h;
   // d = -det N from the entries of N: no cancellation of r^2 against det L2.
   const double d = h * h + E(0, 1) * E(1, 0);
-  const double detm1 = E(0, 0) + E(1, 1) + (E(0, 0) * E(1, 1) - E(0, 1) * E(1, 0));
-  const double det = 1.0 + detm1;
+  // det L2 - 1 from the offsets E (no cancellation near the identity); below det = 1/2 that sum
+  // cancels (terms near -1 and 1 for a block that shrinks: error about u / det^2 in det, 6e-11
+  // in log L2 for a rotation scaled by 1e-3), and det L2 from its entries 1 + E is accurate to
+  // about u / det instead.
+  double detm1 = E(0, 0) + E(1, 1) + (E(0, 0) * E(1, 1) - E(0, 1) * E(1, 0));
+  double det = 1.0 + detm1;
+  const bool shrinks = detm1 < -0.5;
+  if (shrinks) {
+    det = (1.0 + E(0, 0)) * (1.0 + E(1, 1)) - E(0, 1) * E(1, 0);
+    detm1 = det - 1.0;
+  }
   if (!(det > 0)) {
     fail = {ErrorCode::Singular, "a 2D block of the linear part is numerically singular"};
     return false;
@@ -164,7 +234,7 @@ bool logBlock2(const Eigen::Matrix2d& E, const EarOptions& opt, Block2Log& out, 
     Eigen::Matrix2d J;
     J << 0.0, -1.0, 1.0, 0.0;
     out.N = (opt.half_turn == HalfTurn::CounterClockwise ? orient : -orient) * J;
-    out.alpha = 0.5 * std::log1p(detm1);
+    out.alpha = shrinks ? 0.5 * std::log(det) : 0.5 * std::log1p(detm1);  // ln sqrt(det L2)
     out.beta = kPi;
     out.d = -1.0;
     out.s1 = 0.0;  // e^{pi J} = -1: no N component
@@ -204,7 +274,7 @@ bool logBlock2(const Eigen::Matrix2d& E, const EarOptions& opt, Block2Log& out, 
     failNegativePair(r, sq, N.norm(), opt, fail);
     return false;
   }
-  out.alpha = 0.5 * std::log1p(detm1);
+  out.alpha = shrinks ? 0.5 * std::log(det) : 0.5 * std::log1p(detm1);  // ln sqrt(det L2)
   out.s1 = 1.0 / out.beta;
   return true;
 }
@@ -387,7 +457,7 @@ struct LogWork<2> {
     if (!screen(A, fail)) return false;
     const Eigen::Matrix2d E = A.linear() - Eigen::Matrix2d::Identity();
     Block2Log b;
-    if (!logBlock2(E, opt, b, fail)) return false;
+    if (!logBlock2(E, opt, b, fail) || !eigenvaluesInRange(b.re, b.im, 2, fail)) return false;
     const Eigen::Matrix2d bN = b.beta * b.N;
     const double eta = b.eta();
     log.M = bN;
@@ -440,6 +510,7 @@ struct LogWork<3> {
     re[2] = s - 0.5 * y - (realPair ? w2 : 0.0);
     im[1] = realPair ? 0.0 : w2;
     im[2] = -im[1];
+    if (!eigenvaluesInRange(re, im, 3, fail)) return false;
     log.kase.translation = translationCase<3>(re, im, std::abs(lbar) + spread, E, opt.case_tolerance);
 
     // Series form near a triple eigenvalue: always within 2%, and up to 25% when L is far from
@@ -633,20 +704,38 @@ typename AffineLog<D>::Homogeneous AffineLog<D>::homogeneous() const {
   return h;
 }
 
+// LogWork<D>::run, and a failure instead of a logarithm that does not fit in doubles. Within
+// the range screen() admits, M and u can still overflow where L is within rounding of a case
+// without a logarithm: a complex pair r +- i w with r < 0 and w tiny next to a large nilpotent
+// part (nearly a negative Jordan block) has |M| about pi |N| / w (fuzzing found |M| = 6e153 and
+// u = NaN for w / |r| = 5e-154).
+template <int D>
+bool computeLog(const Affine<D>& A, const EarOptions& options, AffineLog<D>& log, detail::Spectral<D>* sp,
+                Failure& fail) {
+  if (!LogWork<D>::run(A, options, log, sp, fail)) return false;
+  // (x - x is NaN exactly for a non-finite x, see screen)
+  if (!std::isnan((log.M - log.M).sum() + (log.u - log.u).sum())) return true;
+  fail = {ErrorCode::InvalidArgument,
+          "the logarithm of this affinity overflows the double range: its linear part is within "
+          "rounding of one without a real logarithm (such as a negative eigenvalue in a Jordan "
+          "block); insert an intermediate pose and use two SAM spans"};
+  return false;
+}
+
 // --- public functions ------------------------------------------------------------------------
 
 template <int D>
 AffineLog<D> log(const Affine<D>& A, const EarOptions& options) {
   AffineLog<D> out;
   Failure f;
-  if (!LogWork<D>::run(A, options, out, nullptr, f)) raise(f);
+  if (!computeLog<D>(A, options, out, nullptr, f)) raise(f);
   return out;
 }
 
 template <int D>
 Span<D>::Span(const Affine<D>& A, const EarOptions& options) : relative_(A) {
   Failure f;
-  if (!LogWork<D>::run(A, options, log_, &spec_, f)) raise(f);
+  if (!computeLog<D>(A, options, log_, &spec_, f)) raise(f);
 }
 
 template <int D>
@@ -757,7 +846,7 @@ Existence realLogExists(const Affine<D>& A, const EarOptions& options) noexcept 
   try {
     AffineLog<D> lg;
     Failure f;
-    if (LogWork<D>::run(A, options, lg, nullptr, f)) return {};
+    if (computeLog<D>(A, options, lg, nullptr, f)) return {};
     return {false, f.code, f.message};
   } catch (const std::exception& e) {  // only std::bad_alloc from message building
     return {false, ErrorCode::InvalidArgument, e.what()};

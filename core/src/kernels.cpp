@@ -75,6 +75,37 @@ int phiSeriesTerms(double r) {
 
 }  // namespace
 
+namespace {
+
+// The real eigenvalues x1, x2 of X and e^x1 - 1, e^x2 - 1 (eta > 0): from c1 +- h s1, the one
+// nearer 1 through det(e^X - 1) and log1p when that is known (a - h would cancel there), else
+// by expm1.
+struct RealPair {
+  double x1, x2, e1, e2;
+};
+RealPair realPair(double a, double h, double c1, double s1, double detEm1) {
+  RealPair r{a + h, a - h, 0, 0};
+  if (std::isnan(detEm1)) {
+    r.e1 = std::expm1(r.x1);
+    r.e2 = std::expm1(r.x2);
+    return r;
+  }
+  r.e1 = c1 + h * s1;
+  r.e2 = c1 - h * s1;
+  if (std::abs(r.e1) >= std::abs(r.e2)) {
+    r.e2 = detEm1 / r.e1;
+    r.x2 = std::log1p(r.e2);
+    r.x1 = 2.0 * a - r.x2;
+  } else {
+    r.e1 = detEm1 / r.e2;
+    r.x1 = std::log1p(r.e1);
+    r.x2 = 2.0 * a - r.x1;
+  }
+  return r;
+}
+
+}  // namespace
+
 BlockCoefficients phiBlock(double a, double eta, double c1, double s1, double detEm1) {
   const double h = std::sqrt(std::abs(eta));
   const double r = std::abs(a) + h;
@@ -96,29 +127,11 @@ BlockCoefficients phiBlock(double a, double eta, double c1, double s1, double de
     return {(a * c1 - eta * s1) / det, (a * s1 - c1) / det};
   }
   if (eta > 0) {
-    // x1,2 = a +- h, e^{x1,2} - 1 = c1 +- h s1. When det(e^X - 1) is known, the eigenvalue of
-    // e^X nearer 1 comes from it and its log from log1p, since a - h would cancel there.
-    double x1 = a + h, x2 = a - h;
-    double e1, e2;
-    if (std::isnan(detEm1)) {
-      e1 = std::expm1(x1);
-      e2 = std::expm1(x2);
-    } else {
-      e1 = c1 + h * s1;
-      e2 = c1 - h * s1;
-      if (std::abs(e1) >= std::abs(e2)) {
-        e2 = detEm1 / e1;
-        x2 = std::log1p(e2);
-        x1 = 2.0 * a - x2;
-      } else {
-        e1 = detEm1 / e2;
-        x1 = std::log1p(e1);
-        x2 = 2.0 * a - x1;
-      }
-    }
-    const double f1 = std::abs(x1) < 1e-8 ? 1.0 + 0.5 * x1 : e1 / x1;
-    const double f2 = std::abs(x2) < 1e-8 ? 1.0 + 0.5 * x2 : e2 / x2;
-    return {0.5 * (f1 + f2), (f1 - f2) / (x1 - x2)};
+    // x1,2 = a +- h, e^{x1,2} - 1 = c1 +- h s1 (see realPair).
+    const RealPair ev = realPair(a, h, c1, s1, detEm1);
+    const double f1 = std::abs(ev.x1) < 1e-8 ? 1.0 + 0.5 * ev.x1 : ev.e1 / ev.x1;
+    const double f2 = std::abs(ev.x2) < 1e-8 ? 1.0 + 0.5 * ev.x2 : ev.e2 / ev.x2;
+    return {0.5 * (f1 + f2), (f1 - f2) / (ev.x1 - ev.x2)};
   }
   // Complex pair z = a + i h: phi(z) = (e^z - 1)/z with e^z - 1 = c1 + i h s1.
   const double nr = c1, ni = h * s1;
@@ -126,6 +139,20 @@ BlockCoefficients phiBlock(double a, double eta, double c1, double s1, double de
   const double re = (nr * a + ni * h) / zz;
   const double im = (ni * a - nr * h) / zz;
   return {re, im / h};
+}
+
+BlockCoefficients phiBlockInverse(double a, double eta, double c1, double s1, double detEm1) {
+  const double h = std::sqrt(std::abs(eta));
+  if (eta > 0 && h >= 0.25 && std::abs(a) + h > 1.0) {
+    const RealPair ev = realPair(a, h, c1, s1, detEm1);
+    // x / (e^x - 1) = 1 - x/2 + O(x^2)
+    const double g1 = std::abs(ev.x1) < 1e-8 ? 1.0 - 0.5 * ev.x1 : ev.x1 / ev.e1;
+    const double g2 = std::abs(ev.x2) < 1e-8 ? 1.0 - 0.5 * ev.x2 : ev.x2 / ev.e2;
+    return {0.5 * (g1 + g2), (g1 - g2) / (ev.x1 - ev.x2)};
+  }
+  const BlockCoefficients pq = phiBlock(a, eta, c1, s1, detEm1);
+  const double den = pq.p * pq.p - pq.q * pq.q * eta;
+  return {pq.p / den, -pq.q / den};
 }
 
 BlockCoefficients phiBlock(double a, double eta) {

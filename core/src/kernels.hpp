@@ -38,6 +38,14 @@ BlockCoefficients phiBlock(double a, double eta, double c1, double s1, double de
 /// phiBlock for a block given by (a, eta) alone (computes its exponential first).
 BlockCoefficients phiBlock(double a, double eta);
 
+/// The inverse phi(X)^-1 = P 1 + Q N of phiBlock's phi(X) (same arguments). Real eigenvalues at
+/// least 1/2 apart (eta >= 1/16) are inverted one by one, P +- Q h = x_i / (e^x_i - 1), since
+/// the determinant p^2 - q^2 eta of phi(X) = p + q N cancels when the eigenvalues of phi(X)
+/// differ by orders of magnitude (diag(2.6e24, 1) lost every digit and gave an infinite
+/// inverse); otherwise the inverse is (p - q N) / (p^2 - q^2 eta), which does not cancel there
+/// (eigenvalues of phi(X) within a factor e^(1/2) of each other, or a complex pair).
+BlockCoefficients phiBlockInverse(double a, double eta, double c1, double s1, double detEm1);
+
 /// The real root y of y^3 + P y + Q = 0 of largest magnitude (its sign is that of -Q; for Q = 0
 /// the positive one), without trigonometric functions or a library cube root: a scaled
 /// polynomial in each of two regimes, Cardano's formula with a polynomial cube root in the

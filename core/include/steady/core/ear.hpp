@@ -127,9 +127,18 @@ struct Spectral {
 ///
 /// For a half turn the convention of `options.half_turn` applies; otherwise the result is the
 /// principal logarithm (eigenvalues of `M` with imaginary parts in (-pi, pi)).
-/// @throws Error(NonFinite) for NaN/Inf entries; Error(NotOrientationPreserving) when
-/// `det L < 0`; Error(Singular) when `L` is numerically singular (Hadamard ratio
-/// `|det L| / prod |column_i|` at most 1e-14); Error(NoRealLog) when `L`
+/// Range: every column of `L`, and `t`, at most 1e30 long, every column of `L` at least
+/// 1e-30 long (far beyond any pose in consistent units; the closed forms raise entries to the
+/// sixth power, which would overflow beyond it), and eigenvalue moduli of `L` at least 1e-6
+/// and within a factor 1e8 of each other. Accuracy degrades towards these limits: a rotation
+/// scaled by 1e-3 has its log within 1.4e-13, by 1e-6 within 1.7e-10; diag(1e8, 1) has the
+/// translation part within 1.3e-10 relative.
+/// @throws Error(NonFinite) for NaN/Inf entries; Error(InvalidArgument) for a column or `t`
+/// longer than 1e30, an eigenvalue modulus below 1e-6 or moduli more than 1e8 apart, or a logarithm too
+/// large for doubles (`L` within rounding of a negative Jordan block); Error(Singular) when `L` is numerically
+/// singular (a column shorter than 1e-30, or Hadamard ratio `|det L| / prod |column_i|` at
+/// most 1e-14); Error(NotOrientationPreserving) when
+/// `det L < 0`; Error(NoRealLog) when `L`
 /// has two distinct negative eigenvalues or a negative Jordan block (no SAM exists: insert an
 /// intermediate pose).
 template <int D>
