@@ -293,7 +293,9 @@ struct Approximator {
     if (depth >= 48)
       throw Error(ErrorCode::InvalidArgument,
                   "approximating the curved motion: no SAM span fits near t = " + num(a) +
-                      " (deviation " + num(dev) + "); the motion is not continuous there");
+                      " (deviation " + num(dev) + " against the tolerance " + num(tolerance) +
+                      "); the motion is not continuous there, or its poses are so large that "
+                      "their rounding exceeds the tolerance");
     const double m = 0.5 * (a + b);
     const Affine<D> Pm = at(m);
     adaptive(a, m, Pa, Pm, depth + 1);
