@@ -1265,7 +1265,9 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   };
   std::vector<Crossing> crossing(pairs.size());
   parallelFor(0, pairs.size(), options.threads, [&](std::size_t k) {
-    const auto [i, j] = pairs[k];
+    // (plain variables, not a structured binding: lambdas below capture them, which C++17
+    // allows for bindings only as GCC's extension; Clang rejects it)
+    const int i = pairs[k].first, j = pairs[k].second;
     const bool plain_pair = plain(T[i]) && plain(T[j]);
     int sv[3];
     const int n = shared(T[i], T[j], sv);
@@ -2574,7 +2576,8 @@ std::size_t detail::separatePinches(std::vector<Vec>& V, const std::vector<Tri>&
         std::vector<int>& copies = clusters[findRoot(parent, static_cast<int>(g))];
         copies.insert(copies.end(), groups[g].begin(), groups[g].end());
       }
-    for (const auto& [root, copies] : clusters) {
+    for (const auto& cluster : clusters) {
+      const std::vector<int>& copies = cluster.second;  // (captured below: not a binding, see arrange)
       if (copies.size() > kClusterCopies) continue;
       std::vector<int> faces;
       for (const int v : copies) faces.insert(faces.end(), faces_of[v].begin(), faces_of[v].end());
