@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages steady needs, only those that are missing.
+# Installs the Debian 12 packages steady needs, only those that are missing. With --fuzz, also
+# those of scripts/fuzz.sh (Clang and its libFuzzer and sanitizer runtimes).
 set -euo pipefail
 
 packages=(
@@ -16,6 +17,9 @@ packages=(
   libfcl-dev         # bench/: FCL 0.7, the contact peer
   libopenvdb-dev libboost-iostreams-dev  # bench/: OpenVDB 10, the sweep peer (its FindOpenVDB needs Boost.Iostreams)
 )
+if [ "${1:-}" = "--fuzz" ]; then
+  packages+=(clang libclang-rt-14-dev)
+fi
 
 missing=()
 for p in "${packages[@]}"; do
