@@ -207,12 +207,21 @@ class OpenMeshSink : public std::streambuf {
     return traits_type::not_eof(c);
   }
   std::streamsize xsputn(const char* text, std::streamsize n) override {
-    if (capture) capture->write(text, n);
-    else
+    if (capture) {
+      // (a reader that complains once per element of a huge announced count would fill the
+      // memory: a PLY fuzz input reached 2 GB; the start of what it said is enough)
+      const std::streamsize room = kMaxCapture - static_cast<std::streamsize>(capture->tellp());
+      if (room > 0) capture->write(text, std::min(n, room));
+    } else {
       for (std::ostream* s : before) s->write(text, n);
+    }
     return n;
   }
+
+ private:
+  static constexpr std::streamsize kMaxCapture = 4096;
 };
+
 
 // While an instance lives, what OpenMesh says goes to a string. OpenMesh's streams are
 // redirected once per process, to an OpenMeshSink each, which stays connected: connecting and
@@ -482,6 +491,35 @@ std::vector<Eigen::Vector3d> plyVertices(const std::string& path) {
   return points;
 }
 
+// A PLY file must start with the line "ply" and have an "end_header" line: OpenMesh 9's PLY
+// reader, given a header without one, reads on forever (and its complaints filled 2 GB; a fuzz
+// input with "end_header" misspelt).
+void checkPlyHeader(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  auto firstWord = [](const std::string& l) {
+    std::istringstream words(l);
+    std::string w;
+    words >> w;
+    return w;
+  };
+  if (!std::getline(in, line) || firstWord(line) != "ply")
+    fail(ErrorCode::InvalidFile, "the mesh '" + path + "' is not a valid PLY file: it does not start with the line 'ply'");
+  for (long long n = 2; std::getline(in, line); ++n) {
+    const std::string w = firstWord(line);
+    if (w == "end_header") return;
+    if (!w.empty() && w != "format" && w != "element" && w != "property" && w != "comment" && w != "obj_info") {
+      std::string shown = w.substr(0, 40);
+      for (char& c : shown)
+        if (!std::isprint(static_cast<unsigned char>(c))) c = '?';
+      fail(ErrorCode::InvalidFile, "the mesh '" + path + "' is not a valid PLY file: header line " + std::to_string(n) +
+                                       " starts with '" + shown +
+                                       "', not format, element, property, comment, obj_info or end_header");
+    }
+  }
+  fail(ErrorCode::InvalidFile, "the mesh '" + path + "' is not a valid PLY file: its header has no 'end_header' line");
+}
+
 // A binary STL (not starting with "solid") must be 84 + 50 n bytes long for its n triangles.
 void checkBinaryStlSize(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -532,6 +570,7 @@ TriangleMesh readMesh(const std::string& path) {
   OffHeader off;
   if (format == MeshFormat::Off) off = checkTextOff(path);
   if (format == MeshFormat::Stl) checkBinaryStlSize(path);
+  if (format == MeshFormat::Ply) checkPlyHeader(path);
 
   Collector collected;
   bool ok = false;

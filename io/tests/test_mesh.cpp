@@ -279,6 +279,26 @@ TEST_F(MeshIo, ReadGarbageIsInvalidFile) {
   expectError([&] { steady::io::readMesh(path("e.stl")); }, ErrorCode::InvalidFile, {"e.stl"});
 }
 
+// A PLY header without end_header made OpenMesh's reader run forever, its complaints filling
+// the memory (a fuzz input, tests/fuzz/corpus/mesh/ply_no_end_header); a header line that is
+// no PLY keyword likewise. Both are refused before OpenMesh reads, in no time.
+TEST_F(MeshIo, ReadPlyHeaderWithoutEndIsInvalidFile) {
+  const std::string head =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty double z\n"
+      "element face 1\nproperty list uchar int vertex_indices\n";
+  writeText("open.ply", head + "end\x7fheader\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  expectError([&] { steady::io::readMesh(path("open.ply")); }, ErrorCode::InvalidFile,
+              {"open.ply", "header line 9 starts with 'end?header'"});
+  writeText("cut.ply", head);
+  expectError([&] { steady::io::readMesh(path("cut.ply")); }, ErrorCode::InvalidFile, {"cut.ply", "no 'end_header' line"});
+  writeText("nohead.ply", "plx\n" + head + "end_header\n");
+  expectError([&] { steady::io::readMesh(path("nohead.ply")); }, ErrorCode::InvalidFile, {"does not start with the line 'ply'"});
+  // (comment and obj_info lines are header lines too)
+  writeText("ok.ply", "ply\nformat ascii 1.0\ncomment made by hand\nobj_info x\n" + head.substr(21) +
+                          "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  EXPECT_EQ(steady::io::readMesh(path("ok.ply")).faces.size(), 1u);
+}
+
 TEST_F(MeshIo, ReadIndexOutOfRangeIsInvalidFile) {
   writeText("bad.off", "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 1 7\n");
   expectError([&] { steady::io::readMesh(path("bad.off")); }, ErrorCode::InvalidFile,
