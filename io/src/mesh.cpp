@@ -491,30 +491,45 @@ std::vector<Eigen::Vector3d> plyVertices(const std::string& path) {
   return points;
 }
 
-// A PLY file must start with the line "ply" and have an "end_header" line: OpenMesh 9's PLY
-// reader, given a header without one, reads on forever (and its complaints filled 2 GB; a fuzz
-// input with "end_header" misspelt).
+// A PLY header must be well formed before OpenMesh 9's reader sees it: given a header without
+// "end_header" it reads on forever (its complaints filled 2 GB), and given "element vertex4"
+// (no count) it adds elements until the memory runs out (two mesh fuzz inputs). So: the line
+// "ply", then only these lines up to "end_header": "format <ascii|binary_little_endian|
+// binary_big_endian> <version>", "element <name> <count>", "property <type> <name>",
+// "property list <type> <type> <name>", "comment ...", "obj_info ..." (and blank lines).
 void checkPlyHeader(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::string line;
-  auto firstWord = [](const std::string& l) {
-    std::istringstream words(l);
-    std::string w;
-    words >> w;
+  auto wordsOf = [](const std::string& l) {
+    std::istringstream in_line(l);
+    std::vector<std::string> w;
+    for (std::string x; in_line >> x;) w.push_back(x);
     return w;
   };
-  if (!std::getline(in, line) || firstWord(line) != "ply")
+  auto bad = [&](long long n, const std::string& why) {
+    std::string shown = line.substr(0, 60);
+    for (char& c : shown)
+      if (!std::isprint(static_cast<unsigned char>(c))) c = '?';
+    fail(ErrorCode::InvalidFile, "the mesh '" + path + "' is not a valid PLY file: header line " + std::to_string(n) +
+                                     " ('" + shown + "') " + why);
+  };
+  if (!std::getline(in, line) || wordsOf(line) != std::vector<std::string>{"ply"})
     fail(ErrorCode::InvalidFile, "the mesh '" + path + "' is not a valid PLY file: it does not start with the line 'ply'");
   for (long long n = 2; std::getline(in, line); ++n) {
-    const std::string w = firstWord(line);
-    if (w == "end_header") return;
-    if (!w.empty() && w != "format" && w != "element" && w != "property" && w != "comment" && w != "obj_info") {
-      std::string shown = w.substr(0, 40);
-      for (char& c : shown)
-        if (!std::isprint(static_cast<unsigned char>(c))) c = '?';
-      fail(ErrorCode::InvalidFile, "the mesh '" + path + "' is not a valid PLY file: header line " + std::to_string(n) +
-                                       " starts with '" + shown +
-                                       "', not format, element, property, comment, obj_info or end_header");
+    const std::vector<std::string> w = wordsOf(line);
+    if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
+    if (w[0] == "end_header") return;
+    if (w[0] == "format") {
+      if (w.size() != 3 || (w[1] != "ascii" && w[1] != "binary_little_endian" && w[1] != "binary_big_endian"))
+        bad(n, "is not 'format ascii|binary_little_endian|binary_big_endian <version>'");
+    } else if (w[0] == "element") {
+      if (w.size() != 3 || w[2].find_first_not_of("0123456789") != std::string::npos || w[2].size() > 18)
+        bad(n, "is not 'element <name> <count>'");
+    } else if (w[0] == "property") {
+      if (!(w.size() == 3 && w[1] != "list") && !(w.size() == 5 && w[1] == "list"))
+        bad(n, "is not 'property <type> <name>' or 'property list <type> <type> <name>'");
+    } else {
+      bad(n, "is none of format, element, property, comment, obj_info and end_header");
     }
   }
   fail(ErrorCode::InvalidFile, "the mesh '" + path + "' is not a valid PLY file: its header has no 'end_header' line");

@@ -280,15 +280,19 @@ TEST_F(MeshIo, ReadGarbageIsInvalidFile) {
 }
 
 // A PLY header without end_header made OpenMesh's reader run forever, its complaints filling
-// the memory (a fuzz input, tests/fuzz/corpus/mesh/ply_no_end_header); a header line that is
-// no PLY keyword likewise. Both are refused before OpenMesh reads, in no time.
+// the memory, and an element line without a count made it allocate without end (fuzz inputs,
+// tests/fuzz/corpus/mesh/ply_*). Malformed header lines are refused before OpenMesh reads.
 TEST_F(MeshIo, ReadPlyHeaderWithoutEndIsInvalidFile) {
   const std::string head =
       "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty double z\n"
       "element face 1\nproperty list uchar int vertex_indices\n";
   writeText("open.ply", head + "end\x7fheader\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
   expectError([&] { steady::io::readMesh(path("open.ply")); }, ErrorCode::InvalidFile,
-              {"open.ply", "header line 9 starts with 'end?header'"});
+              {"open.ply", "header line 9 ('end?header') is none of"});
+  // "element vertex4" without a count made OpenMesh add elements until the memory ran out.
+  writeText("count.ply", "ply\nformat binary_little_endian 1.0\nelement vertex4\nproperty double x\nend_header\n");
+  expectError([&] { steady::io::readMesh(path("count.ply")); }, ErrorCode::InvalidFile,
+              {"count.ply", "header line 3 ('element vertex4') is not 'element <name> <count>'"});
   writeText("cut.ply", head);
   expectError([&] { steady::io::readMesh(path("cut.ply")); }, ErrorCode::InvalidFile, {"cut.ply", "no 'end_header' line"});
   writeText("nohead.ply", "plx\n" + head + "end_header\n");
