@@ -42,8 +42,9 @@ BlockCoefficients phiBlock(double a, double eta);
 /// least 1/2 apart (eta >= 1/16) are inverted one by one, P +- Q h = x_i / (e^x_i - 1), since
 /// the determinant p^2 - q^2 eta of phi(X) = p + q N cancels when the eigenvalues of phi(X)
 /// differ by orders of magnitude (diag(2.6e24, 1) lost every digit and gave an infinite
-/// inverse); otherwise the inverse is (p - q N) / (p^2 - q^2 eta), which does not cancel there
-/// (eigenvalues of phi(X) within a factor e^(1/2) of each other, or a complex pair).
+/// inverse); otherwise the inverse is (p - q N) / (p^2 - q^2 eta), which does not cancel much
+/// there (eigenvalues of phi(X) within a factor e^(1/2) of each other, or e^2 when the spectral
+/// radius |a| + h is at most 1; or a complex pair, where p^2 - q^2 eta is a sum of squares).
 BlockCoefficients phiBlockInverse(double a, double eta, double c1, double s1, double detEm1);
 
 /// The real root y of y^3 + P y + Q = 0 of largest magnitude (its sign is that of -Q; for Q = 0
