@@ -30,6 +30,7 @@
 #include <limits>
 #include <mutex>
 #include <sstream>
+#include <stdexcept>
 #include <streambuf>
 #include <system_error>
 
@@ -103,12 +104,21 @@ class Collector : public OpenMesh::IO::BaseImporter {
   std::size_t first_bad_face = 0;  // index (in the file's face order) of the first one
   int first_bad_index = 0;
   std::size_t short_faces = 0;     // faces with fewer than three corners (ignored)
+  // At most this many vertices, and faces: a file of n bytes holds fewer than n / 2 of either
+  // in any of the four formats (at least 3 bytes a vertex, 4 a face). OpenMesh's readers follow
+  // the counts of a header, not the file's end: an OFF variant whose garbage header announced
+  // billions of vertices was read as zeros until 3 GB (a mesh fuzz input).
+  std::size_t max_elements = std::numeric_limits<std::size_t>::max();
+  struct TooMany : std::runtime_error {
+    using std::runtime_error::runtime_error;
+  };
 
   VertexHandle add_vertex(const Vec3f& p) override { return push(p[0], p[1], p[2]); }
   VertexHandle add_vertex(const Vec3d& p) override { return push(p[0], p[1], p[2]); }
   VertexHandle add_vertex() override { return push(0, 0, 0); }
   HalfedgeHandle add_edge(VertexHandle, VertexHandle) override { return HalfedgeHandle(); }
   FaceHandle add_face(const VHandles& corners) override {
+    if (faces_seen_ >= max_elements) throw TooMany("faces");
     const std::size_t face = faces_seen_++;
     if (corners.size() < 3) {
       ++short_faces;
@@ -167,8 +177,8 @@ class Collector : public OpenMesh::IO::BaseImporter {
   void add_texture_information(int, std::string) override {}
   void reserve(unsigned int nv, unsigned int, unsigned int nf) override {
     // Sizes come from file headers: reserve a sane amount only.
-    points.reserve(std::min<std::size_t>(nv, std::size_t{1} << 24));
-    polygons.reserve(std::min<std::size_t>(nf, std::size_t{1} << 24));
+    points.reserve(std::min<std::size_t>({nv, std::size_t{1} << 24, max_elements}));
+    polygons.reserve(std::min<std::size_t>({nf, std::size_t{1} << 24, max_elements}));
   }
   size_t n_vertices() const override { return points.size(); }
   size_t n_faces() const override { return polygons.size(); }
@@ -177,6 +187,7 @@ class Collector : public OpenMesh::IO::BaseImporter {
 
  private:
   VertexHandle push(double x, double y, double z) {
+    if (points.size() >= max_elements) throw TooMany("vertices");
     points.emplace_back(x, y, z);
     return VertexHandle(static_cast<int>(points.size() - 1));
   }
@@ -588,6 +599,11 @@ TriangleMesh readMesh(const std::string& path) {
   if (format == MeshFormat::Ply) checkPlyHeader(path);
 
   Collector collected;
+  {
+    std::error_code ec;
+    const std::uintmax_t bytes = fs::file_size(path, ec);
+    if (!ec) collected.max_elements = static_cast<std::size_t>(bytes / 2 + 16);
+  }
   bool ok = false;
   std::string said;
   {
@@ -596,6 +612,11 @@ TriangleMesh readMesh(const std::string& path) {
     OpenMesh::IO::Options options;
     try {
       ok = OpenMesh::IO::IOManager().read(path, collected, options);
+    } catch (const Collector::TooMany& e) {
+      fail(ErrorCode::InvalidFile, "the mesh " + name + " has more " + e.what() + " than its size can hold (" +
+                                       std::to_string(collected.max_elements) +
+                                       " at most): its header announces more than the file contains; check the "
+                                       "file (truncated, or a corrupt header)");
     } catch (const std::exception& e) {
       ok = false;
       said = e.what();

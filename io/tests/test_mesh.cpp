@@ -303,6 +303,16 @@ TEST_F(MeshIo, ReadPlyHeaderWithoutEndIsInvalidFile) {
   EXPECT_EQ(steady::io::readMesh(path("ok.ply")).faces.size(), 1u);
 }
 
+// Headers announcing far more than the file holds: OpenMesh's readers follow the count, not the
+// file's end (an OFF variant with a garbage header was read as zeros until 3 GB: a fuzz input,
+// tests/fuzz/corpus/mesh/off_garbage_count). Reading stops at half the file's size in elements.
+TEST_F(MeshIo, ReadCountsBeyondTheFileSizeIsInvalidFile) {
+  // (a binary OFF whose counts are the bytes of the text "4 4 0": about 4e8 each)
+  writeText("many.off", "OFF BINARY\n4 4 0\n0 0 0\n");
+  expectError([&] { steady::io::readMesh(path("many.off")); }, ErrorCode::InvalidFile,
+              {"many.off", "than its size can hold (27 at most)", "corrupt header"});
+}
+
 TEST_F(MeshIo, ReadIndexOutOfRangeIsInvalidFile) {
   writeText("bad.off", "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 1 7\n");
   expectError([&] { steady::io::readMesh(path("bad.off")); }, ErrorCode::InvalidFile,
