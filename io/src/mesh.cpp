@@ -504,10 +504,11 @@ std::vector<Eigen::Vector3d> plyVertices(const std::string& path) {
 
 // A PLY header must be well formed before OpenMesh 9's reader sees it: given a header without
 // "end_header" it reads on forever (its complaints filled 2 GB), and given "element vertex4"
-// (no count) it adds elements until the memory runs out (two mesh fuzz inputs). So: the line
-// "ply", then only these lines up to "end_header": "format <ascii|binary_little_endian|
-// binary_big_endian> <version>", "element <name> <count>", "property <type> <name>",
-// "property list <type> <type> <name>", "comment ...", "obj_info ..." (and blank lines).
+// (no count) it adds elements until the memory runs out, and given a property of type "int["
+// it complains forever (three mesh fuzz inputs). So: the line "ply", then only these lines up
+// to "end_header": "format <ascii|binary_little_endian|binary_big_endian> <version>",
+// "element <name> <count>", "property <type> <name>", "property list <type> <type> <name>"
+// (PLY's types), "comment ...", "obj_info ..." (and blank lines).
 void checkPlyHeader(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::string line;
@@ -524,6 +525,12 @@ void checkPlyHeader(const std::string& path) {
     fail(ErrorCode::InvalidFile, "the mesh '" + path + "' is not a valid PLY file: header line " + std::to_string(n) +
                                      " ('" + shown + "') " + why);
   };
+  auto type = [](const std::string& t) {
+    static const char* const kTypes[] = {"char",  "uchar",  "short", "ushort",  "int",     "uint",
+                                         "float", "double", "int8",  "uint8",   "int16",   "uint16",
+                                         "int32", "uint32", "float32", "float64"};
+    return std::find(std::begin(kTypes), std::end(kTypes), t) != std::end(kTypes);
+  };
   if (!std::getline(in, line) || wordsOf(line) != std::vector<std::string>{"ply"})
     fail(ErrorCode::InvalidFile, "the mesh '" + path + "' is not a valid PLY file: it does not start with the line 'ply'");
   for (long long n = 2; std::getline(in, line); ++n) {
@@ -537,8 +544,9 @@ void checkPlyHeader(const std::string& path) {
       if (w.size() != 3 || w[2].find_first_not_of("0123456789") != std::string::npos || w[2].size() > 18)
         bad(n, "is not 'element <name> <count>'");
     } else if (w[0] == "property") {
-      if (!(w.size() == 3 && w[1] != "list") && !(w.size() == 5 && w[1] == "list"))
-        bad(n, "is not 'property <type> <name>' or 'property list <type> <type> <name>'");
+      if (!(w.size() == 3 && type(w[1])) && !(w.size() == 5 && w[1] == "list" && type(w[2]) && type(w[3])))
+        bad(n, "is not 'property <type> <name>' or 'property list <type> <type> <name>' with PLY types "
+               "(char, uchar, short, ushort, int, uint, float, double, or int8 ... float64)");
     } else {
       bad(n, "is none of format, element, property, comment, obj_info and end_header");
     }

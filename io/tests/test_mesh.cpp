@@ -293,6 +293,11 @@ TEST_F(MeshIo, ReadPlyHeaderWithoutEndIsInvalidFile) {
   writeText("count.ply", "ply\nformat binary_little_endian 1.0\nelement vertex4\nproperty double x\nend_header\n");
   expectError([&] { steady::io::readMesh(path("count.ply")); }, ErrorCode::InvalidFile,
               {"count.ply", "header line 3 ('element vertex4') is not 'element <name> <count>'"});
+  // A property type OpenMesh does not know made it complain forever.
+  writeText("type.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\n"
+                        "property double z\nelement face 1\nproperty list uchar int[ vertex_indices\nend_header\n");
+  expectError([&] { steady::io::readMesh(path("type.ply")); }, ErrorCode::InvalidFile,
+              {"type.ply", "header line 8 ('property list uchar int[ vertex_indices') is not"});
   writeText("cut.ply", head);
   expectError([&] { steady::io::readMesh(path("cut.ply")); }, ErrorCode::InvalidFile, {"cut.ply", "no 'end_header' line"});
   writeText("nohead.ply", "plx\n" + head + "end_header\n");
