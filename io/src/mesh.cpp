@@ -505,8 +505,9 @@ std::vector<Eigen::Vector3d> plyVertices(const std::string& path) {
 // A PLY header must be well formed before OpenMesh 9's reader sees it: given a header without
 // "end_header" it reads on forever (its complaints filled 2 GB), and given "element vertex4"
 // (no count) it adds elements until the memory runs out, and given a property of type "int["
-// it complains forever (three mesh fuzz inputs). So: the line "ply", then only these lines up
-// to "end_header": "format <ascii|binary_little_endian|binary_big_endian> <version>",
+// it complains forever, as it does for a format version that is not "1.0" (four mesh fuzz
+// inputs). So: the line "ply", then only these lines, in printable ASCII but for comments, up
+// to "end_header": "format <ascii|binary_little_endian|binary_big_endian> 1.0",
 // "element <name> <count>", "property <type> <name>", "property list <type> <type> <name>"
 // (PLY's types), "comment ...", "obj_info ..." (and blank lines).
 void checkPlyHeader(const std::string& path) {
@@ -536,10 +537,13 @@ void checkPlyHeader(const std::string& path) {
   for (long long n = 2; std::getline(in, line); ++n) {
     const std::vector<std::string> w = wordsOf(line);
     if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
+    for (const char c : line)
+      if (!std::isprint(static_cast<unsigned char>(c)) && c != '\t' && c != '\r') bad(n, "holds a byte that is not text");
     if (w[0] == "end_header") return;
     if (w[0] == "format") {
-      if (w.size() != 3 || (w[1] != "ascii" && w[1] != "binary_little_endian" && w[1] != "binary_big_endian"))
-        bad(n, "is not 'format ascii|binary_little_endian|binary_big_endian <version>'");
+      if (w.size() != 3 || (w[1] != "ascii" && w[1] != "binary_little_endian" && w[1] != "binary_big_endian") ||
+          w[2] != "1.0")
+        bad(n, "is not 'format ascii|binary_little_endian|binary_big_endian 1.0'");
     } else if (w[0] == "element") {
       if (w.size() != 3 || w[2].find_first_not_of("0123456789") != std::string::npos || w[2].size() > 18)
         bad(n, "is not 'element <name> <count>'");

@@ -288,7 +288,7 @@ TEST_F(MeshIo, ReadPlyHeaderWithoutEndIsInvalidFile) {
       "element face 1\nproperty list uchar int vertex_indices\n";
   writeText("open.ply", head + "end\x7fheader\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
   expectError([&] { steady::io::readMesh(path("open.ply")); }, ErrorCode::InvalidFile,
-              {"open.ply", "header line 9 ('end?header') is none of"});
+              {"open.ply", "header line 9 ('end?header') holds a byte that is not text"});
   // "element vertex4" without a count made OpenMesh add elements until the memory ran out.
   writeText("count.ply", "ply\nformat binary_little_endian 1.0\nelement vertex4\nproperty double x\nend_header\n");
   expectError([&] { steady::io::readMesh(path("count.ply")); }, ErrorCode::InvalidFile,
@@ -298,6 +298,13 @@ TEST_F(MeshIo, ReadPlyHeaderWithoutEndIsInvalidFile) {
                         "property double z\nelement face 1\nproperty list uchar int[ vertex_indices\nend_header\n");
   expectError([&] { steady::io::readMesh(path("type.ply")); }, ErrorCode::InvalidFile,
               {"type.ply", "header line 8 ('property list uchar int[ vertex_indices') is not"});
+  // So did a format version other than 1.0.
+  writeText("version.ply", "ply\nformat binary_little_endian \xff" "1.0\nelement vertex 3\nproperty double x\nend_header\n");
+  expectError([&] { steady::io::readMesh(path("version.ply")); }, ErrorCode::InvalidFile,
+              {"version.ply", "header line 2 ('format binary_little_endian ?1.0') holds a byte that is not text"});
+  writeText("version2.ply", "ply\nformat ascii 2.0\nelement vertex 3\nproperty double x\nend_header\n");
+  expectError([&] { steady::io::readMesh(path("version2.ply")); }, ErrorCode::InvalidFile,
+              {"version2.ply", "is not 'format ascii|binary_little_endian|binary_big_endian 1.0'"});
   writeText("cut.ply", head);
   expectError([&] { steady::io::readMesh(path("cut.ply")); }, ErrorCode::InvalidFile, {"cut.ply", "no 'end_header' line"});
   writeText("nohead.ply", "plx\n" + head + "end_header\n");
