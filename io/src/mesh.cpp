@@ -349,7 +349,16 @@ OffHeader checkTextOff(const std::string& path) {
     line_no = 1;
     bad("the file is empty");
   }
-  if (tokens[0] != "OFF") return h;  // COFF, NOFF, binary OFF, ...: left to OpenMesh alone
+  if (tokens[0] != "OFF") {
+    // COFF, NOFF, 4OFF, ...: left to OpenMesh alone, but only OFF's variants [ST][C][N][4][n]OFF
+    // (a fuzz input headed 'OFF3' made OpenMesh's reader take a line as a face of millions of
+    // corners and allocate until 2 GB).
+    std::string rest = tokens[0];
+    for (const char* prefix : {"ST", "C", "N", "4", "n"})
+      if (rest.rfind(prefix, 0) == 0) rest.erase(0, std::strlen(prefix));
+    if (rest != "OFF") bad("the header '" + tokens[0].substr(0, 40) + "' is neither OFF nor one of its variants [ST][C][N][4][n]OFF");
+    return h;
+  }
   if (tokens.size() > 1 && tokens[1] == "BINARY") return h;
   tokens.erase(tokens.begin());
   if (tokens.empty() && !next()) bad("the file ends before the counts 'vertices faces edges'");

@@ -273,6 +273,9 @@ TEST_F(MeshIo, ReadGarbageIsInvalidFile) {
   expectError([&] { steady::io::readMesh(path("g.off")); }, ErrorCode::InvalidFile, {"g.off", "OFF"});
   writeText("g.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n");
   expectError([&] { steady::io::readMesh(path("g.ply")); }, ErrorCode::InvalidFile, {"g.ply"});
+  writeText("v.off", "OFF3\n4 3 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 2 3\n3 0 3 1\n");
+  expectError([&] { steady::io::readMesh(path("v.off")); }, ErrorCode::InvalidFile,
+              {"v.off", "line 1: the header 'OFF3' is neither OFF nor one of its variants"});
   writeText("g.obj", "hello world\n");
   expectError([&] { steady::io::readMesh(path("g.obj")); }, ErrorCode::InvalidFile, {"g.obj", "no triangle"});
   writeText("e.stl", "");
