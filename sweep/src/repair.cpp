@@ -182,8 +182,12 @@ RepairReport repairMesh(std::vector<Eigen::Vector3d>& vertices, std::vector<std:
       }
     }
 
-    // 8: outward, when there is an inside.
-    if (CGAL::is_closed(mesh)) {
+    // 8: outward, when there is an inside. Not with zero-area faces: CGAL's inside test (a
+    // vertical ray cast, retried with other rays while a ray meets an edge or a vertex) never
+    // ended on a small closed STL whose faces were flat (a mesh fuzz input).
+    bool flat = false;
+    for (const auto f : mesh.faces()) flat = flat || PMP::is_degenerate_triangle_face(f, mesh);
+    if (CGAL::is_closed(mesh) && !flat) {
       PMP::orient_to_bound_a_volume(mesh);
       report.oriented_outward = true;
     }

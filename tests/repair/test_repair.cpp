@@ -382,3 +382,17 @@ TEST(Repair, EmptyMeshAndNoFaceLeft) {
 }
 
 }  // namespace
+
+// A closed mesh whose faces all have collinear corners (a tetrahedron on four points of a
+// line): CGAL's inside test behind orient_to_bound_a_volume never ended on such faces (a mesh
+// fuzz input, tests/fuzz/corpus/mesh/stl_flat_repair). Step 8 is skipped and reported; the
+// degenerate faces are counted.
+TEST(Repair, FlatClosedMeshIsNotOriented) {
+  Mesh m;
+  m.v = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}};
+  m.f = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  const RepairReport r = repair(m);
+  EXPECT_TRUE(r.closed);
+  EXPECT_FALSE(r.oriented_outward);
+  EXPECT_EQ(r.degenerate_faces, 4u);
+}
