@@ -567,6 +567,44 @@ void checkPlyHeader(const std::string& path) {
   fail(ErrorCode::InvalidFile, "the mesh '" + path + "' is not a valid PLY file: its header has no 'end_header' line");
 }
 
+// The face lines of an OBJ file ("f c1 c2 c3 ..."), checked before OpenMesh reads them: each
+// corner must be "v", "v/t", "v//n" or "v/t/n" with v a nonzero integer, and a face at least
+// three corners. OpenMesh 9, built with assertions (Debian's), aborts the whole process on a
+// face line whose corners it cannot read ("f h 0 0", a mesh fuzz input).
+void checkObjFaces(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  auto index = [](const std::string& t, bool may_be_empty) {
+    if (t.empty()) return may_be_empty;
+    long long x = 0;
+    const auto r = std::from_chars(t.data(), t.data() + t.size(), x);
+    return r.ec == std::errc() && r.ptr == t.data() + t.size() && x != 0;
+  };
+  for (long long n = 1; std::getline(in, line); ++n) {
+    std::istringstream words(line);
+    std::string key;
+    if (!(words >> key) || key != "f") continue;
+    int corners = 0;
+    bool ok = true;
+    for (std::string c; ok && words >> c; ++corners) {
+      const auto s1 = c.find('/');
+      const auto s2 = s1 == std::string::npos ? std::string::npos : c.find('/', s1 + 1);
+      ok = index(c.substr(0, s1), false) &&
+           (s1 == std::string::npos ||
+            (index(c.substr(s1 + 1, s2 == std::string::npos ? std::string::npos : s2 - s1 - 1), true) &&
+             (s2 == std::string::npos || index(c.substr(s2 + 1), false))));
+    }
+    if (!ok || corners < 3) {
+      std::string shown = line.substr(0, 60);
+      for (char& ch : shown)
+        if (!std::isprint(static_cast<unsigned char>(ch))) ch = '?';
+      fail(ErrorCode::InvalidFile, "the mesh '" + path + "' is not a valid OBJ file: line " + std::to_string(n) + " ('" +
+                                       shown + "') is not a face 'f v1 v2 v3 ...' of at least three corners v, v/t, "
+                                       "v//n or v/t/n (nonzero vertex numbers)");
+    }
+  }
+}
+
 // A binary STL (not starting with "solid") must be 84 + 50 n bytes long for its n triangles.
 void checkBinaryStlSize(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -618,6 +656,7 @@ TriangleMesh readMesh(const std::string& path) {
   if (format == MeshFormat::Off) off = checkTextOff(path);
   if (format == MeshFormat::Stl) checkBinaryStlSize(path);
   if (format == MeshFormat::Ply) checkPlyHeader(path);
+  if (format == MeshFormat::Obj) checkObjFaces(path);
 
   Collector collected;
   {

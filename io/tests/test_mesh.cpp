@@ -276,6 +276,14 @@ TEST_F(MeshIo, ReadGarbageIsInvalidFile) {
   writeText("v.off", "OFF3\n4 3 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 2 3\n3 0 3 1\n");
   expectError([&] { steady::io::readMesh(path("v.off")); }, ErrorCode::InvalidFile,
               {"v.off", "line 1: the header 'OFF3' is neither OFF nor one of its variants"});
+  // OpenMesh (built with assertions) aborted the process on a face it could not read.
+  writeText("h.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf h 0 0\n");
+  expectError([&] { steady::io::readMesh(path("h.obj")); }, ErrorCode::InvalidFile,
+              {"h.obj", "line 4 ('f h 0 0') is not a face"});
+  writeText("two.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1/1 2//2\n");
+  expectError([&] { steady::io::readMesh(path("two.obj")); }, ErrorCode::InvalidFile, {"two.obj", "line 4"});
+  writeText("ok.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf 1/1/1 2//1 -1\n");
+  EXPECT_EQ(steady::io::readMesh(path("ok.obj")).faces.size(), 1u);
   writeText("g.obj", "hello world\n");
   expectError([&] { steady::io::readMesh(path("g.obj")); }, ErrorCode::InvalidFile, {"g.obj", "no triangle"});
   writeText("e.stl", "");
