@@ -182,11 +182,46 @@ RepairReport repairMesh(std::vector<Eigen::Vector3d>& vertices, std::vector<std:
       }
     }
 
-    // 8: outward, when there is an inside. Not with zero-area faces: CGAL's inside test (a
-    // vertical ray cast, retried with other rays while a ray meets an edge or a vertex) never
-    // ended on a small closed STL whose faces were flat (a mesh fuzz input).
+    // 8: outward, when there is an inside. Not with zero-area faces, nor with a connected
+    // component that encloses no volume (|volume| <= 1e-12 diagonal^3, Body's flat test):
+    // CGAL's inside test (a vertical ray cast, retried with other rays while a ray meets an
+    // edge or a vertex) never ended on two small closed STLs of that kind (mesh fuzz inputs).
     bool flat = false;
     for (const auto f : mesh.faces()) flat = flat || PMP::is_degenerate_triangle_face(f, mesh);
+    if (!flat && CGAL::is_closed(mesh)) {
+      std::vector<int> comp(mesh.num_faces(), -1);
+      std::vector<double> volume;
+      std::vector<CGAL::Bbox_3> box;
+      for (const auto seed : mesh.faces()) {
+        if (comp[seed.idx()] >= 0) continue;
+        const int c = static_cast<int>(volume.size());
+        volume.push_back(0.0);
+        box.emplace_back();
+        std::vector<Mesh::Face_index> stack{seed};
+        comp[seed.idx()] = c;
+        while (!stack.empty()) {
+          const auto f = stack.back();
+          stack.pop_back();
+          Point p[3];
+          int k = 0;
+          for (const auto h : CGAL::halfedges_around_face(mesh.halfedge(f), mesh)) {
+            if (k < 3) p[k++] = mesh.point(mesh.target(h));
+            const auto g = mesh.face(mesh.opposite(h));
+            if (g != Mesh::null_face() && comp[g.idx()] < 0) {
+              comp[g.idx()] = c;
+              stack.push_back(g);
+            }
+          }
+          volume[c] += CGAL::scalar_product(p[0] - CGAL::ORIGIN, CGAL::cross_product(p[1] - CGAL::ORIGIN, p[2] - CGAL::ORIGIN)) / 6;
+          box[c] += p[0].bbox() + p[1].bbox() + p[2].bbox();
+        }
+      }
+      for (std::size_t c = 0; c < volume.size(); ++c) {
+        const double dx = box[c].xmax() - box[c].xmin(), dy = box[c].ymax() - box[c].ymin(), dz = box[c].zmax() - box[c].zmin();
+        const double diag = std::sqrt(dx * dx + dy * dy + dz * dz);
+        flat = flat || !(std::abs(volume[c]) > 1e-12 * diag * diag * diag);
+      }
+    }
     if (CGAL::is_closed(mesh) && !flat) {
       PMP::orient_to_bound_a_volume(mesh);
       report.oriented_outward = true;

@@ -396,3 +396,16 @@ TEST(Repair, FlatClosedMeshIsNotOriented) {
   EXPECT_FALSE(r.oriented_outward);
   EXPECT_EQ(r.degenerate_faces, 4u);
 }
+
+// A closed flat "pillow" (a square triangulated along one diagonal on top and the other below):
+// no zero-area face, but no volume either, and a second fuzz input of that kind hung CGAL's
+// inside test too (tests/fuzz/corpus/mesh/stl_flat_component_repair). Not oriented, reported.
+TEST(Repair, FlatClosedComponentIsNotOriented) {
+  Mesh m;
+  m.v = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  m.f = {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}, {1, 3, 2}};
+  const RepairReport r = repair(m);
+  EXPECT_TRUE(r.closed);
+  EXPECT_EQ(r.degenerate_faces, 0u);
+  EXPECT_FALSE(r.oriented_outward);
+}

@@ -26,10 +26,11 @@
 ///    accepts that; the report counts the places); a cut that opens the mesh leaves holes.
 /// 7. Optionally (RepairOptions::fill_holes) fill each hole with triangles
 ///    (triangulate_hole: a minimum-weight triangulation of its boundary; it adds no vertex).
-/// 8. Orient outward: when the mesh is closed and has no zero-area face, each connected
+/// 8. Orient outward: when the mesh is closed, has no zero-area face and every connected
+///    component encloses a volume (|volume| above 1e-12 times its box diagonal cubed), each
 ///    component is turned so that the mesh bounds a volume, outer shells outward and nested
 ///    shells as cavities (orient_to_bound_a_volume). An open mesh has no inside, and CGAL's
-///    inside test does not end on zero-area faces: the orientation is then left as step 6
+///    inside test does not end on flat components: the orientation is then left as step 6
 ///    made it, and the report says so.
 ///
 /// What it does not fix, and reports: boundary edges and holes (unless filled), zero-area
@@ -90,7 +91,7 @@ struct RepairReport {
   std::size_t components = 0;        ///< connected components (through shared edges)
   bool closed = false;               ///< no boundary edge (and not empty)
   /// The outward orientation was established (step 8 ran: the mesh is closed, without
-  /// zero-area faces). False otherwise: the orientation is only consistent.
+  /// zero-area faces or flat components). False otherwise: the orientation is only consistent.
   bool oriented_outward = false;
 
   /// True when the mesh was modified at all.
