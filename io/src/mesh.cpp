@@ -511,6 +511,15 @@ std::vector<Eigen::Vector3d> plyVertices(const std::string& path) {
   return points;
 }
 
+// A line of a file as an error message shows it: its first 60 bytes, '?' for those that are not
+// printable.
+std::string shownLine(const std::string& line) {
+  std::string shown = line.substr(0, 60);
+  for (char& c : shown)
+    if (!std::isprint(static_cast<unsigned char>(c))) c = '?';
+  return shown;
+}
+
 // A PLY header must be well formed before OpenMesh 9's reader sees it: given a header without
 // "end_header" it reads on forever (its complaints filled 2 GB), and given "element vertex4"
 // (no count) it adds elements until the memory runs out, and given a property of type "int["
@@ -529,11 +538,8 @@ void checkPlyHeader(const std::string& path) {
     return w;
   };
   auto bad = [&](long long n, const std::string& why) {
-    std::string shown = line.substr(0, 60);
-    for (char& c : shown)
-      if (!std::isprint(static_cast<unsigned char>(c))) c = '?';
     fail(ErrorCode::InvalidFile, "the mesh '" + path + "' is not a valid PLY file: header line " + std::to_string(n) +
-                                     " ('" + shown + "') " + why);
+                                     " ('" + shownLine(line) + "') " + why);
   };
   auto type = [](const std::string& t) {
     static const char* const kTypes[] = {"char",  "uchar",  "short", "ushort",  "int",     "uint",
@@ -595,11 +601,8 @@ void checkObjFaces(const std::string& path) {
              (s2 == std::string::npos || index(c.substr(s2 + 1), false))));
     }
     if (!ok || corners < 3) {
-      std::string shown = line.substr(0, 60);
-      for (char& ch : shown)
-        if (!std::isprint(static_cast<unsigned char>(ch))) ch = '?';
       fail(ErrorCode::InvalidFile, "the mesh '" + path + "' is not a valid OBJ file: line " + std::to_string(n) + " ('" +
-                                       shown + "') is not a face 'f v1 v2 v3 ...' of at least three corners v, v/t, "
+                                       shownLine(line) + "') is not a face 'f v1 v2 v3 ...' of at least three corners v, v/t, "
                                        "v//n or v/t/n (nonzero vertex numbers)");
     }
   }
