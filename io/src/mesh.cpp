@@ -523,8 +523,8 @@ std::string shownLine(const std::string& line) {
 // A PLY header must be well formed before OpenMesh 9's reader sees it: given a header without
 // "end_header" it reads on forever (its complaints filled 2 GB), and given "element vertex4"
 // (no count) it adds elements until the memory runs out, and given a property of type "int["
-// it complains forever, as it does for a format version that is not "1.0" (four mesh fuzz
-// inputs). So: the line "ply", then only these lines, in printable ASCII but for comments, up
+// it complains forever, as it does for a format version that is not "1.0", and a property
+// line before any element line crashes it (five mesh fuzz inputs). So: the line "ply", then only these lines, in printable ASCII but for comments, up
 // to "end_header": "format <ascii|binary_little_endian|binary_big_endian> 1.0",
 // "element <name> <count>", "property <type> <name>", "property list <type> <type> <name>"
 // (PLY's types), "comment ...", "obj_info ..." (and blank lines).
@@ -549,6 +549,7 @@ void checkPlyHeader(const std::string& path) {
   };
   if (!std::getline(in, line) || wordsOf(line) != std::vector<std::string>{"ply"})
     fail(ErrorCode::InvalidFile, "the mesh '" + path + "' is not a valid PLY file: it does not start with the line 'ply'");
+  bool element_seen = false;
   for (long long n = 2; std::getline(in, line); ++n) {
     const std::vector<std::string> w = wordsOf(line);
     if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
@@ -562,7 +563,10 @@ void checkPlyHeader(const std::string& path) {
     } else if (w[0] == "element") {
       if (w.size() != 3 || w[2].find_first_not_of("0123456789") != std::string::npos || w[2].size() > 18)
         bad(n, "is not 'element <name> <count>'");
+      element_seen = true;
     } else if (w[0] == "property") {
+      // (OpenMesh adds a property to the last element without looking: a segmentation fault)
+      if (!element_seen) bad(n, "is a property before any element line");
       if (!(w.size() == 3 && type(w[1])) && !(w.size() == 5 && w[1] == "list" && type(w[2]) && type(w[3])))
         bad(n, "is not 'property <type> <name>' or 'property list <type> <type> <name>' with PLY types "
                "(char, uchar, short, ushort, int, uint, float, double, or int8 ... float64)");

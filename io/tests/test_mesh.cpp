@@ -313,6 +313,10 @@ TEST_F(MeshIo, ReadPlyHeaderWithoutEndIsInvalidFile) {
   writeText("version.ply", "ply\nformat binary_little_endian \xff" "1.0\nelement vertex 3\nproperty double x\nend_header\n");
   expectError([&] { steady::io::readMesh(path("version.ply")); }, ErrorCode::InvalidFile,
               {"version.ply", "header line 2 ('format binary_little_endian ?1.0') holds a byte that is not text"});
+  // A property before any element crashed OpenMesh (a segmentation fault).
+  writeText("orphan.ply", "ply\nformat ascii 1.0\ncomment vertex 4\nproperty double x\nend_header\n");
+  expectError([&] { steady::io::readMesh(path("orphan.ply")); }, ErrorCode::InvalidFile,
+              {"orphan.ply", "header line 4 ('property double x') is a property before any element line"});
   writeText("version2.ply", "ply\nformat ascii 2.0\nelement vertex 3\nproperty double x\nend_header\n");
   expectError([&] { steady::io::readMesh(path("version2.ply")); }, ErrorCode::InvalidFile,
               {"version2.ply", "is not 'format ascii|binary_little_endian|binary_big_endian 1.0'"});

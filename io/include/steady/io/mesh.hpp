@@ -63,10 +63,10 @@ MeshFormat meshFormatOf(const std::string& path);
 /// announces, with finite coordinates and corner indices in range, and no '#' comments
 /// (OpenMesh misreads them), and other OFF headers must be one of OFF's variants
 /// ([ST][C][N][4][n]OFF); a PLY header must be well formed (text lines of format 1.0, element,
-/// property with PLY's types, comment and obj_info, up to end_header); OBJ face lines must
-/// have at least three corners v, v/t, v//n or v/t/n (OpenMesh aborts on others); a binary STL file must
-/// have the size its triangle count implies; a file of n bytes yields at most n/2 + 16
-/// vertices and faces. (OpenMesh 9 follows header counts, not the end of the file, and its PLY
+/// property with PLY's types after an element, comment and obj_info, up to end_header); OBJ
+/// face lines must have at least three corners v, v/t, v//n or v/t/n (OpenMesh aborts on
+/// others); a binary STL file must have the size its triangle count implies; a file of n bytes
+/// yields at most n/2 + 16 vertices and faces. (OpenMesh 9 follows header counts, not the end of the file, and its PLY
 /// reader loops on some malformed headers: each of these checks answers an input found by
 /// fuzzing, tests/fuzz.)
 ///
