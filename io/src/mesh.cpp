@@ -315,6 +315,15 @@ struct OffHeader {
   std::vector<Eigen::Vector3d> points;  // (when checked) every vertex, in file order
 };
 
+// A line of a file as an error message shows it: its first 60 bytes, '?' for those that are not
+// printable.
+std::string shownLine(const std::string& line) {
+  std::string shown = line.substr(0, 60);
+  for (char& c : shown)
+    if (!std::isprint(static_cast<unsigned char>(c))) c = '?';
+  return shown;
+}
+
 OffHeader checkTextOff(const std::string& path) {
   OffHeader h;
   std::ifstream in(path, std::ios::binary);
@@ -363,8 +372,13 @@ OffHeader checkTextOff(const std::string& path) {
   tokens.erase(tokens.begin());
   if (tokens.empty() && !next()) bad("the file ends before the counts 'vertices faces edges'");
   long long nv = -1, nf = -1;
-  if (tokens.size() < 2 || !integer(tokens[0], nv) || !integer(tokens[1], nf) || nv < 0 || nf < 0)
-    bad("expected the counts 'vertices faces edges', got '" + line + "'");
+  long long ne = 0;
+  // (exactly the counts: OpenMesh reads tokens, not lines, so a fourth token on this line shifts
+  // every later one, and a coordinate taken for a face's corner count of 2^32 - 1 made it
+  // allocate 2 GB: a mesh fuzz input)
+  if (tokens.size() < 2 || tokens.size() > 3 || !integer(tokens[0], nv) || !integer(tokens[1], nf) || nv < 0 || nf < 0 ||
+      (tokens.size() == 3 && !integer(tokens[2], ne)))
+    bad("expected the counts 'vertices faces edges', got '" + shownLine(line) + "'");
   h.points.reserve(static_cast<std::size_t>(std::min<long long>(nv, 1 << 24)));
   for (long long i = 0; i < nv; ++i) {
     if (!next()) bad("the file ends after " + std::to_string(i) + " of the " + std::to_string(nv) + " vertices it announces");
@@ -509,15 +523,6 @@ std::vector<Eigen::Vector3d> plyVertices(const std::string& path) {
     points.push_back(x);
   }
   return points;
-}
-
-// A line of a file as an error message shows it: its first 60 bytes, '?' for those that are not
-// printable.
-std::string shownLine(const std::string& line) {
-  std::string shown = line.substr(0, 60);
-  for (char& c : shown)
-    if (!std::isprint(static_cast<unsigned char>(c))) c = '?';
-  return shown;
 }
 
 // A PLY header must be well formed before OpenMesh 9's reader sees it: given a header without

@@ -273,6 +273,11 @@ TEST_F(MeshIo, ReadGarbageIsInvalidFile) {
   expectError([&] { steady::io::readMesh(path("g.off")); }, ErrorCode::InvalidFile, {"g.off", "OFF"});
   writeText("g.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n");
   expectError([&] { steady::io::readMesh(path("g.ply")); }, ErrorCode::InvalidFile, {"g.ply"});
+  // A fourth token on the counts line shifted OpenMesh's reading (it reads tokens, not lines)
+  // until a coordinate became a face of 2^32 - 1 corners.
+  writeText("c.off", "OFF\n3 1 0-1 0.5\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  expectError([&] { steady::io::readMesh(path("c.off")); }, ErrorCode::InvalidFile,
+              {"c.off", "line 2: expected the counts 'vertices faces edges', got '3 1 0-1 0.5'"});
   writeText("v.off", "OFF3\n4 3 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 2 3\n3 0 3 1\n");
   expectError([&] { steady::io::readMesh(path("v.off")); }, ErrorCode::InvalidFile,
               {"v.off", "line 1: the header 'OFF3' is neither OFF nor one of its variants"});
