@@ -296,23 +296,33 @@ class CaptureOpenMeshMessages {
 
 const char* article(MeshFormat f) { return f == MeshFormat::Ply ? "a" : "an"; }
 
-// Whether token t is one number, read into x (strtod: the double nearest to the decimal, as
-// writeMesh's shortest form requires).
+// Whether token t is one decimal number (an optional sign, digits with an optional point, an
+// optional exponent; also inf and nan), read into x as the double nearest to it, as writeMesh's
+// shortest form requires. std::from_chars, unlike strtod, does not depend on the C locale (a
+// host program with a German LC_NUMERIC would have made "0.5" unreadable) and takes no
+// hexadecimal.
 bool wholeNumber(const std::string& t, double& x) {
-  char* end = nullptr;
-  x = std::strtod(t.c_str(), &end);
-  return !t.empty() && end == t.c_str() + t.size();
+  const char* first = t.data();
+  const char* last = t.data() + t.size();
+  if (first != last && *first == '+') {  // (from_chars takes '-' only)
+    ++first;
+    if (first == last || *first == '-' || *first == '+') return false;
+  }
+  const auto r = std::from_chars(first, last, x);
+  return r.ec == std::errc() && r.ptr == last;
 }
 
-// OpenMesh's OFF reader accepts truncated files (repeating the last face) and misreads comment
-// lines without an error, so text OFF files are checked here first: the structure the header
-// announces, line by line. The announced counts are compared with what OpenMesh reads. The
-// coordinates are kept as parsed here, in double: OpenMesh 9's OFF reader rounds them to float.
-struct OffHeader {
-  bool checked = false;  // a text OFF file with the plain "OFF" keyword
-  std::size_t vertices = 0, faces = 0;
-  bool comments = false;
-  std::vector<Eigen::Vector3d> points;  // (when checked) every vertex, in file order
+// A text OFF file, read here rather than by OpenMesh. OpenMesh's text OFF reader reads a face as
+// tokens, not as a line: a face line with a colour after its corners (which OFF allows) shifts
+// every later face, silently (a tetrahedron came back with 760 triangles), or until a coordinate
+// taken for a corner count allocates gigabytes (a mesh fuzz input). It also takes counts written
+// on the header line for vertex coordinates, misreads comments, truncated files and hexadecimal
+// numbers, and rounds coordinates to float. Here each vertex and each face is one line ('#'
+// starts a comment), as the header and counts announce; coordinates are kept in double.
+struct TextOff {
+  bool read = false;  // false: a binary OFF, left to OpenMesh
+  std::vector<Eigen::Vector3d> points;
+  std::vector<std::vector<int>> polygons;  // the faces of three or more corners, in file order
 };
 
 // A line of a file as an error message shows it: its first 60 bytes, '?' for those that are not
@@ -324,8 +334,8 @@ std::string shownLine(const std::string& line) {
   return shown;
 }
 
-OffHeader checkTextOff(const std::string& path) {
-  OffHeader h;
+TextOff readTextOff(const std::string& path) {
+  TextOff off;
   std::ifstream in(path, std::ios::binary);
   std::string line;
   std::size_t line_no = 0;
@@ -338,10 +348,7 @@ OffHeader checkTextOff(const std::string& path) {
     while (std::getline(in, line)) {
       ++line_no;
       const auto hash = line.find('#');
-      if (hash != std::string::npos) {
-        h.comments = true;
-        line.erase(hash);
-      }
+      if (hash != std::string::npos) line.erase(hash);
       std::istringstream words(line);
       tokens.clear();
       for (std::string w; words >> w;) tokens.push_back(w);
@@ -354,58 +361,73 @@ OffHeader checkTextOff(const std::string& path) {
     return r.ec == std::errc() && r.ptr == t.data() + t.size();
   };
   const auto real = [](const std::string& t, double& x) { return wholeNumber(t, x) && std::isfinite(x); };
+  // Tokens [from, tokens.size()) are numbers (a colour, normal or texture coordinates after a
+  // vertex's position or a face's corners), at most `most` of them.
+  const auto extras = [&](std::size_t from, std::size_t most, const std::string& what) {
+    double x = 0;
+    if (tokens.size() - from > most)
+      bad(what + " has " + std::to_string(tokens.size() - from) + " values after it, more than the " + std::to_string(most) +
+          " a normal, colour or texture coordinates take; each " + what.substr(0, what.find(' ')) +
+          " must be on its own line: '" + shownLine(line) + "'");
+    for (std::size_t i = from; i < tokens.size(); ++i)
+      if (!wholeNumber(tokens[i], x))
+        bad(what + ": '" + shownLine(tokens[i]) + "' after it is not a number: '" + shownLine(line) + "'");
+  };
   if (!next()) {
     line_no = 1;
     bad("the file is empty");
   }
-  if (tokens[0] != "OFF") {
-    // COFF, NOFF, 4OFF, ...: left to OpenMesh alone, but only OFF's variants [ST][C][N][4][n]OFF
-    // (a fuzz input headed 'OFF3' made OpenMesh's reader take a line as a face of millions of
-    // corners and allocate until 2 GB).
-    std::string rest = tokens[0];
-    for (const char* prefix : {"ST", "C", "N", "4", "n"})
-      if (rest.rfind(prefix, 0) == 0) rest.erase(0, std::strlen(prefix));
-    if (rest != "OFF") bad("the header '" + tokens[0].substr(0, 40) + "' is neither OFF nor one of its variants [ST][C][N][4][n]OFF");
-    return h;
-  }
-  if (tokens.size() > 1 && tokens[1] == "BINARY") return h;
+  // The header: OFF or one of its variants [ST][C][N][4][n]OFF, which only add values after a
+  // vertex's position (texture coordinates, colour, normal) or a face's corners (colour).
+  std::string rest = tokens[0];
+  for (const char* prefix : {"ST", "C", "N", "4", "n"})
+    if (rest.rfind(prefix, 0) == 0) rest.erase(0, std::strlen(prefix));
+  // (a fuzz input headed 'OFF3' made OpenMesh's reader take a line as a face of millions of
+  // corners and allocate until 2 GB)
+  if (rest != "OFF") bad("the header '" + shownLine(tokens[0]) + "' is neither OFF nor one of its variants [ST][C][N][4][n]OFF");
+  if (tokens.size() > 1 && tokens[1] == "BINARY") return off;
+  if (tokens[0].find_first_of("4n") != std::string::npos)
+    bad("the header '" + tokens[0] + "' announces 4D or n-dimensional vertices; steady reads 3D meshes only");
   tokens.erase(tokens.begin());
   if (tokens.empty() && !next()) bad("the file ends before the counts 'vertices faces edges'");
-  long long nv = -1, nf = -1;
-  long long ne = 0;
-  // (exactly the counts: OpenMesh reads tokens, not lines, so a fourth token on this line shifts
-  // every later one, and a coordinate taken for a face's corner count of 2^32 - 1 made it
-  // allocate 2 GB: a mesh fuzz input)
+  long long nv = -1, nf = -1, ne = 0;
   if (tokens.size() < 2 || tokens.size() > 3 || !integer(tokens[0], nv) || !integer(tokens[1], nf) || nv < 0 || nf < 0 ||
       (tokens.size() == 3 && !integer(tokens[2], ne)))
     bad("expected the counts 'vertices faces edges', got '" + shownLine(line) + "'");
-  h.points.reserve(static_cast<std::size_t>(std::min<long long>(nv, 1 << 24)));
+  if (nv > std::numeric_limits<int>::max())
+    bad("the file announces " + std::to_string(nv) + " vertices, more than steady's meshes index (2^31 - 1)");
+  // (the counts come from the file: memory is reserved for what its size could hold at most)
+  std::error_code ec;
+  const std::uintmax_t bytes = fs::file_size(path, ec);
+  const auto cap = [&](long long n) { return static_cast<std::size_t>(std::min<std::uintmax_t>(static_cast<std::uintmax_t>(n), ec ? 0 : bytes / 2 + 1)); };
+  off.points.reserve(cap(nv));
+  off.polygons.reserve(cap(nf));
   for (long long i = 0; i < nv; ++i) {
     if (!next()) bad("the file ends after " + std::to_string(i) + " of the " + std::to_string(nv) + " vertices it announces");
     Eigen::Vector3d x;
     if (tokens.size() < 3 || !real(tokens[0], x.x()) || !real(tokens[1], x.y()) || !real(tokens[2], x.z()))
-      bad("expected vertex " + std::to_string(i) + " as three finite numbers 'x y z', got '" + line + "'");
-    h.points.push_back(x);
+      bad("expected vertex " + std::to_string(i) + " as three finite numbers 'x y z', got '" + shownLine(line) + "'");
+    extras(3, 9, "vertex " + std::to_string(i));
+    off.points.push_back(x);
   }
   for (long long i = 0; i < nf; ++i) {
     if (!next()) bad("the file ends after " + std::to_string(i) + " of the " + std::to_string(nf) + " faces it announces");
     long long k = -1;
     if (!integer(tokens[0], k) || k < 0 || static_cast<std::size_t>(k) + 1 > tokens.size())
-      bad("expected face " + std::to_string(i) + " as 'n i1 ... in' (n corner indices), got '" + line + "'");
+      bad("expected face " + std::to_string(i) + " as 'n i1 ... in' (n corner indices) on one line, got '" + shownLine(line) + "'");
+    std::vector<int> poly(static_cast<std::size_t>(k));
     for (long long c = 1; c <= k; ++c) {
       long long idx = -1;
       if (!integer(tokens[static_cast<std::size_t>(c)], idx) || idx < 0 || idx >= nv)
-        bad("face " + std::to_string(i) + ": corner '" + tokens[static_cast<std::size_t>(c)] + "' is not a vertex index in 0.." +
-            std::to_string(nv - 1));
+        bad("face " + std::to_string(i) + ": corner '" + shownLine(tokens[static_cast<std::size_t>(c)]) +
+            "' is not a vertex index in 0.." + std::to_string(nv - 1));
+      poly[static_cast<std::size_t>(c - 1)] = static_cast<int>(idx);
     }
+    extras(static_cast<std::size_t>(k) + 1, 4, "face " + std::to_string(i));
+    if (k >= 3) off.polygons.push_back(std::move(poly));
   }
-  if (h.comments)
-    fail(ErrorCode::InvalidFile, "the mesh '" + path + "' has comments ('#'), which OpenMesh's OFF reader misreads; "
-                                 "remove them");
-  h.checked = true;
-  h.vertices = static_cast<std::size_t>(nv);
-  h.faces = static_cast<std::size_t>(nf);
-  return h;
+  off.read = true;
+  return off;
 }
 
 // The coordinates of an OBJ file's vertices ("v x y z ..." lines, in file order), in double:
@@ -642,34 +664,10 @@ void checkBinaryStlSize(const std::string& path) {
 
 }  // namespace
 
-MeshFormat meshFormatOf(const std::string& path) {
-  MeshFormat f{};
-  if (!formatOf(path, f)) fail(ErrorCode::InvalidArgument, unknownExtension(path));
-  return f;
-}
-
-TriangleMesh readMesh(const std::string& path) {
-  MeshFormat format{};
-  if (!formatOf(path, format)) fail(ErrorCode::InvalidFile, "cannot read the mesh " + unknownExtension(path));
+// Reads a mesh file with OpenMesh: every vertex and polygon, or a typed error. `said` receives
+// what OpenMesh printed, as " (OpenMesh: ...)", or nothing.
+Collector readWithOpenMesh(const std::string& path, MeshFormat format, std::string& what_said) {
   const std::string name = "'" + path + "'";
-  {
-    std::error_code ec;
-    if (fs::is_directory(path, ec)) fail(ErrorCode::Io, "cannot read the mesh " + name + ": it is a directory");
-    errno = 0;
-    std::ifstream probe(path, std::ios::binary);
-    if (!probe) {
-      const int err = errno;
-      fail(ErrorCode::Io, "cannot read the mesh " + name + ": " + (err ? std::strerror(err) : "cannot open the file") +
-                              "; check the path and its permissions");
-    }
-  }
-
-  OffHeader off;
-  if (format == MeshFormat::Off) off = checkTextOff(path);
-  if (format == MeshFormat::Stl) checkBinaryStlSize(path);
-  if (format == MeshFormat::Ply) checkPlyHeader(path);
-  if (format == MeshFormat::Obj) checkObjFaces(path);
-
   Collector collected;
   {
     std::error_code ec;
@@ -697,29 +695,64 @@ TriangleMesh readMesh(const std::string& path) {
     said += (said.empty() || more.empty() ? "" : " ") + more;
   }
   const std::string fmt = formatName(format);
-  const std::string what_said = said.empty() ? std::string() : " (OpenMesh: " + said + ")";
+  what_said = said.empty() ? std::string() : " (OpenMesh: " + said + ")";
   if (!ok)
     fail(ErrorCode::InvalidFile, "cannot parse the mesh " + name + " as " + fmt + what_said +
                                      "; check that the file is a valid " + fmt + " file and that its extension matches its content");
-  if (off.checked && (collected.points.size() != off.vertices || collected.faces_seen() != off.faces))
-    fail(ErrorCode::InvalidFile, "the mesh " + name + ": OpenMesh read " + std::to_string(collected.points.size()) + " of " +
-                                     std::to_string(off.vertices) + " vertices and " + std::to_string(collected.faces_seen()) +
-                                     " of " + std::to_string(off.faces) + " faces" + what_said + "; check the file");
   if (collected.bad_faces > 0)
     fail(ErrorCode::InvalidFile, "the mesh " + name + " is corrupt: face " + std::to_string(collected.first_bad_face) +
                                      " refers to vertex " + std::to_string(collected.first_bad_index) + " but there are " +
                                      std::to_string(collected.points.size()) + " vertices (" +
                                      std::to_string(collected.bad_faces) + " faces do)");
+  return collected;
+}
+
+MeshFormat meshFormatOf(const std::string& path) {
+  MeshFormat f{};
+  if (!formatOf(path, f)) fail(ErrorCode::InvalidArgument, unknownExtension(path));
+  return f;
+}
+
+TriangleMesh readMesh(const std::string& path) {
+  MeshFormat format{};
+  if (!formatOf(path, format)) fail(ErrorCode::InvalidFile, "cannot read the mesh " + unknownExtension(path));
+  const std::string name = "'" + path + "'";
+  {
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) fail(ErrorCode::Io, "cannot read the mesh " + name + ": it is a directory");
+    errno = 0;
+    std::ifstream probe(path, std::ios::binary);
+    if (!probe) {
+      const int err = errno;
+      fail(ErrorCode::Io, "cannot read the mesh " + name + ": " + (err ? std::strerror(err) : "cannot open the file") +
+                              "; check the path and its permissions");
+    }
+  }
+
+  TextOff off;
+  if (format == MeshFormat::Off) off = readTextOff(path);
+  if (format == MeshFormat::Stl) checkBinaryStlSize(path);
+  if (format == MeshFormat::Ply) checkPlyHeader(path);
+  if (format == MeshFormat::Obj) checkObjFaces(path);
 
   TriangleMesh mesh;
-  // (a text OFF, OBJ or PLY file's own coordinates, in double, where there are as many as
-  // OpenMesh read, in float)
-  std::vector<Eigen::Vector3d> exact = off.checked                  ? std::move(off.points)
-                                       : format == MeshFormat::Obj ? objVertices(path)
-                                       : format == MeshFormat::Ply ? plyVertices(path)
-                                                                   : std::vector<Eigen::Vector3d>();
-  mesh.vertices = exact.size() == collected.points.size() ? std::move(exact) : std::move(collected.points);
-  for (const std::vector<int>& poly : collected.polygons)
+  std::vector<std::vector<int>> polygons;
+  std::string what_said;  // what OpenMesh said while reading, for the messages below
+  if (off.read) {
+    mesh.vertices = std::move(off.points);
+    polygons = std::move(off.polygons);
+  } else {
+    Collector collected = readWithOpenMesh(path, format, what_said);
+    // (an OBJ or PLY file's own coordinates, in double, where there are as many as OpenMesh
+    // read, in float)
+    std::vector<Eigen::Vector3d> exact = format == MeshFormat::Obj   ? objVertices(path)
+                                         : format == MeshFormat::Ply ? plyVertices(path)
+                                                                     : std::vector<Eigen::Vector3d>();
+    mesh.vertices = exact.size() == collected.points.size() ? std::move(exact) : std::move(collected.points);
+    polygons = std::move(collected.polygons);
+  }
+  const std::string fmt = formatName(format);
+  for (const std::vector<int>& poly : polygons)
     for (std::size_t i = 1; i + 1 < poly.size(); ++i) mesh.faces.push_back({poly[0], poly[i], poly[i + 1]});
   if (mesh.faces.empty())
     fail(ErrorCode::InvalidFile, "the mesh " + name + " holds no triangle (" + std::to_string(mesh.vertices.size()) +

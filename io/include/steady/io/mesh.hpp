@@ -41,34 +41,42 @@ enum class MeshFormat {
 MeshFormat meshFormatOf(const std::string& path);
 
 /// Reads a triangle mesh from an OFF, PLY, OBJ or STL file (the format comes from the
-/// extension; PLY and STL may be text or binary). OpenMesh parses the file; steady collects
-/// what it finds without building OpenMesh's half-edge structure, so that the mesh is the
-/// file's content:
+/// extension; OFF, PLY and STL may be text or binary). Text OFF files (plain OFF and its
+/// variants COFF, NOFF, STOFF, ...) are parsed by steady; the other formats by OpenMesh, whose
+/// findings steady collects without building OpenMesh's half-edge structure. Either way the
+/// mesh is the file's content:
 /// - vertices keep their order in the file; faces keep their order and corner order, and
 ///   non-manifold or degenerate faces are kept as they are;
 /// - polygons with more than three corners become a fan of triangles around their first
-///   corner (`(c0, c1, c2), (c0, c2, c3), ...`: exact for convex polygons);
+///   corner (`(c0, c1, c2), (c0, c2, c3), ...`: exact for convex polygons); faces with fewer
+///   than three corners are skipped;
 /// - STL stores every triangle with its own corners: equal corners are merged into one vertex,
 ///   in order of first appearance;
 /// - normals, colours and texture coordinates are ignored.
 ///
-/// Precision: the coordinates of OFF (text), OBJ and PLY files are read in double (in text, the
+/// Precision: the coordinates of text OFF, OBJ and PLY files are read in double (in text, the
 /// nearest double to each decimal), so a file written by writeMesh() reads back exactly.
 /// OpenMesh 9's readers hold coordinates as 32-bit floats, and their values (rounded to float,
-/// relative error at most 6e-8) stand for STL (text or binary), for OFF variants (COFF, NOFF,
-/// binary OFF, ...) and for a PLY file whose first element is not the vertices or whose
-/// vertices have a list property.
+/// relative error at most 6e-8) stand for STL (text or binary), binary OFF, and a PLY file
+/// whose first element is not the vertices or whose vertices have a list property.
 ///
-/// Checks beyond OpenMesh's: a text OFF file must hold the vertices and faces its header
-/// announces, with finite coordinates and corner indices in range, and no '#' comments
-/// (OpenMesh misreads them), and other OFF headers must be one of OFF's variants
-/// ([ST][C][N][4][n]OFF); a PLY header must be well formed (text lines of format 1.0, element,
+/// Text OFF, as steady reads it: the header (OFF or a variant [ST][C][N]OFF; 4OFF and nOFF,
+/// which are not 3D, are refused), the counts "vertices faces [edges]" (on the header's line or
+/// the next), then one line per vertex ("x y z", finite, then at most 9 more numbers: normal,
+/// colour, texture coordinates) and one line per face ("n i1 ... in" with indices in range,
+/// then at most 4 more numbers: a colour); '#' starts a comment, blank lines are skipped, and
+/// what follows the last face is ignored. (OpenMesh 9 reads a face's corners as tokens, so a
+/// face colour shifted every later face without an error; it also misread comments and counts
+/// on the header's line.)
+///
+/// Checks beyond OpenMesh's for the other formats: a binary OFF's header must be one of
+/// OFF's variants; a PLY header must be well formed (text lines of format 1.0, element,
 /// property with PLY's types after an element, comment and obj_info, up to end_header); OBJ
 /// face lines must have at least three corners v, v/t, v//n or v/t/n (OpenMesh aborts on
 /// others); a binary STL file must have the size its triangle count implies; a file of n bytes
-/// yields at most n/2 + 16 vertices and faces. (OpenMesh 9 follows header counts, not the end of the file, and its PLY
-/// reader loops on some malformed headers: each of these checks answers an input found by
-/// fuzzing, tests/fuzz.)
+/// yields at most n/2 + 16 vertices and faces. (OpenMesh 9 follows header counts, not the end
+/// of the file, and its PLY reader loops on some malformed headers: each of these checks
+/// answers an input found by fuzzing, tests/fuzz.)
 ///
 /// @throws Error(Io) when the file does not exist, is a directory or cannot be opened (the
 ///   message names the file and the system's reason);
