@@ -312,6 +312,13 @@ bool wholeNumber(const std::string& t, double& x) {
   return r.ec == std::errc() && r.ptr == last;
 }
 
+// A mesh file read by steady's own parsers (text OFF, PLY), as the file holds it.
+struct ParsedMesh {
+  bool read = false;  // false: left to OpenMesh (a binary OFF)
+  std::vector<Eigen::Vector3d> points;
+  std::vector<std::vector<int>> polygons;  // the faces of three or more corners, in file order
+};
+
 // A text OFF file, read here rather than by OpenMesh. OpenMesh's text OFF reader reads a face as
 // tokens, not as a line: a face line with a colour after its corners (which OFF allows) shifts
 // every later face, silently (a tetrahedron came back with 760 triangles), or until a coordinate
@@ -319,11 +326,6 @@ bool wholeNumber(const std::string& t, double& x) {
 // on the header line for vertex coordinates, misreads comments, truncated files and hexadecimal
 // numbers, and rounds coordinates to float. Here each vertex and each face is one line ('#'
 // starts a comment), as the header and counts announce; coordinates are kept in double.
-struct TextOff {
-  bool read = false;  // false: a binary OFF, left to OpenMesh
-  std::vector<Eigen::Vector3d> points;
-  std::vector<std::vector<int>> polygons;  // the faces of three or more corners, in file order
-};
 
 // A line of a file as an error message shows it: its first 60 bytes, '?' for those that are not
 // printable.
@@ -334,8 +336,8 @@ std::string shownLine(const std::string& line) {
   return shown;
 }
 
-TextOff readTextOff(const std::string& path) {
-  TextOff off;
+ParsedMesh readTextOff(const std::string& path) {
+  ParsedMesh off;
   std::ifstream in(path, std::ios::binary);
   std::string line;
   std::size_t line_no = 0;
@@ -450,114 +452,36 @@ std::vector<Eigen::Vector3d> objVertices(const std::string& path) {
   return points;
 }
 
-// The coordinates of a PLY file's vertices, in double: OpenMesh 9's PLY reader rounds them to
-// float, even where the file holds doubles (as writeMesh's binary PLY does). Read when the
-// vertex element comes first and has only scalar properties, x, y and z among them (ASCII or
-// binary, either byte order); empty otherwise, or for anything unexpected: OpenMesh's reading
-// then stands.
-std::vector<Eigen::Vector3d> plyVertices(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::string line;
-  if (!std::getline(in, line) || line.rfind("ply", 0) != 0) return {};
-  enum class Encoding { Ascii, Little, Big } encoding = Encoding::Ascii;
-  long long count = -1;
-  bool vertex_first = false, in_vertex = false, header_done = false;
-  std::vector<int> sizes;  // per vertex property: its size in bytes
-  int coordinate[3] = {-1, -1, -1};
-  std::vector<char> is_float;  // per vertex property: float or double (else an integer type)
-  auto sizeOf = [](const std::string& t) {
-    if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
-    if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
-    if (t == "int" || t == "uint" || t == "int32" || t == "uint32" || t == "float" || t == "float32") return 4;
-    if (t == "double" || t == "float64") return 8;
-    return 0;
-  };
-  int elements = 0;
-  while (std::getline(in, line)) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::istringstream words(line);
-    std::string key;
-    words >> key;
-    if (key == "format") {
-      std::string f;
-      words >> f;
-      if (f == "ascii") encoding = Encoding::Ascii;
-      else if (f == "binary_little_endian") encoding = Encoding::Little;
-      else if (f == "binary_big_endian") encoding = Encoding::Big;
-      else return {};
-    } else if (key == "element") {
-      std::string name;
-      words >> name;
-      in_vertex = ++elements == 1 && name == "vertex";
-      if (in_vertex) {
-        vertex_first = true;
-        if (!(words >> count) || count < 0) return {};
-      }
-    } else if (key == "property" && in_vertex) {
-      std::string type, name;
-      words >> type >> name;
-      const int size = sizeOf(type);
-      if (size == 0) return {};  // a list, or an unknown type
-      const int k = name == "x" ? 0 : name == "y" ? 1 : name == "z" ? 2 : -1;
-      if (k >= 0) coordinate[k] = static_cast<int>(sizes.size());
-      sizes.push_back(size);
-      is_float.push_back(type == "float" || type == "float32" || type == "double" || type == "float64");
-    } else if (key == "end_header") {
-      header_done = true;
-      break;
-    }
-  }
-  if (!header_done || !vertex_first || coordinate[0] < 0 || coordinate[1] < 0 || coordinate[2] < 0) return {};
-  for (const int k : coordinate)
-    if (!is_float[static_cast<std::size_t>(k)]) return {};
-  std::vector<Eigen::Vector3d> points;
-  points.reserve(static_cast<std::size_t>(std::min<long long>(count, 1 << 24)));
-  std::vector<double> value(sizes.size());
-  for (long long i = 0; i < count; ++i) {
-    if (encoding == Encoding::Ascii) {
-      if (!std::getline(in, line)) return {};
-      std::istringstream words(line);
-      for (double& v : value) {
-        std::string t;
-        if (!(words >> t) || !wholeNumber(t, v)) return {};
-      }
-    } else {
-      for (std::size_t p = 0; p < sizes.size(); ++p) {
-        unsigned char b[8];
-        if (!in.read(reinterpret_cast<char*>(b), sizes[p])) return {};
-        if (!is_float[p]) continue;
-        // (the file's byte order to the machine's: assemble the bits most significant first)
-        std::uint64_t bits = 0;
-        for (int j = 0; j < sizes[p]; ++j) bits = bits << 8 | b[encoding == Encoding::Big ? j : sizes[p] - 1 - j];
-        if (sizes[p] == 8) {
-          std::memcpy(&value[p], &bits, 8);
-        } else {
-          const auto bits32 = static_cast<std::uint32_t>(bits);
-          float f;
-          std::memcpy(&f, &bits32, 4);
-          value[p] = f;
-        }
-      }
-    }
-    const Eigen::Vector3d x(value[static_cast<std::size_t>(coordinate[0])], value[static_cast<std::size_t>(coordinate[1])],
-                            value[static_cast<std::size_t>(coordinate[2])]);
-    if (!x.allFinite()) return {};
-    points.push_back(x);
-  }
-  return points;
-}
+// A PLY file, read here rather than by OpenMesh (ASCII and binary, either byte order). OpenMesh
+// 9's PLY reader never returned on a header without "end_header" or with a version other than
+// 1.0 (its complaints filled the memory), allocated without end for "element vertex4" (no count),
+// crashed on a property line before any element line, and read ASCII data as tokens, so a line
+// with one value too many shifted every later one until a coordinate was taken for a list of
+// millions of indices (mesh fuzz inputs, tests/fuzz/corpus/mesh/ply_*); it also rounds
+// coordinates to float. Here the header is checked line by line, and the data is read as the
+// header declares it: in ASCII one element per line with exactly its values. The mesh is the
+// "vertex" element's x, y and z (any numeric type) and the "face" element's list
+// "vertex_indices" (or "vertex_index"); other elements and properties are read and ignored.
+struct PlyProperty {
+  std::string name;
+  int type = 0;        // size in bytes (1, 2, 4, 8) of the value, or of a list's items
+  bool real = false;   // float or double (else an integer type)
+  bool is_signed = false;
+  bool list = false;
+  int count_type = 0;  // a list's count: size in bytes (an integer type)
+  bool count_signed = false;
+};
 
-// A PLY header must be well formed before OpenMesh 9's reader sees it: given a header without
-// "end_header" it reads on forever (its complaints filled 2 GB), and given "element vertex4"
-// (no count) it adds elements until the memory runs out, and given a property of type "int["
-// it complains forever, as it does for a format version that is not "1.0", and a property
-// line before any element line crashes it (five mesh fuzz inputs). So: the line "ply", then only these lines, in printable ASCII but for comments, up
-// to "end_header": "format <ascii|binary_little_endian|binary_big_endian> 1.0",
-// "element <name> <count>", "property <type> <name>", "property list <type> <type> <name>"
-// (PLY's types), "comment ...", "obj_info ..." (and blank lines).
-void checkPlyHeader(const std::string& path) {
+struct PlyElement {
+  std::string name;
+  long long count = 0;
+  std::vector<PlyProperty> properties;
+};
+
+ParsedMesh readPly(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::string line;
+  const std::string name = "the mesh '" + path + "' is not a valid PLY file: ";
   auto wordsOf = [](const std::string& l) {
     std::istringstream in_line(l);
     std::vector<std::string> w;
@@ -565,43 +489,249 @@ void checkPlyHeader(const std::string& path) {
     return w;
   };
   auto bad = [&](long long n, const std::string& why) {
-    fail(ErrorCode::InvalidFile, "the mesh '" + path + "' is not a valid PLY file: header line " + std::to_string(n) +
-                                     " ('" + shownLine(line) + "') " + why);
+    fail(ErrorCode::InvalidFile, name + "header line " + std::to_string(n) + " ('" + shownLine(line) + "') " + why);
   };
-  auto type = [](const std::string& t) {
-    static const char* const kTypes[] = {"char",  "uchar",  "short", "ushort",  "int",     "uint",
-                                         "float", "double", "int8",  "uint8",   "int16",   "uint16",
-                                         "int32", "uint32", "float32", "float64"};
-    return std::find(std::begin(kTypes), std::end(kTypes), t) != std::end(kTypes);
+  // PLY's types: their size, whether real, whether signed; false for an unknown name.
+  auto type = [](const std::string& t, int& size, bool& real, bool& is_signed) {
+    struct T {
+      const char* a;
+      const char* b;
+      int size;
+      bool real, is_signed;
+    };
+    static const T kTypes[] = {{"char", "int8", 1, false, true},    {"uchar", "uint8", 1, false, false},
+                               {"short", "int16", 2, false, true},  {"ushort", "uint16", 2, false, false},
+                               {"int", "int32", 4, false, true},    {"uint", "uint32", 4, false, false},
+                               {"float", "float32", 4, true, true}, {"double", "float64", 8, true, true}};
+    for (const T& k : kTypes)
+      if (t == k.a || t == k.b) {
+        size = k.size, real = k.real, is_signed = k.is_signed;
+        return true;
+      }
+    return false;
   };
   if (!std::getline(in, line) || wordsOf(line) != std::vector<std::string>{"ply"})
-    fail(ErrorCode::InvalidFile, "the mesh '" + path + "' is not a valid PLY file: it does not start with the line 'ply'");
-  bool element_seen = false;
+    fail(ErrorCode::InvalidFile, name + "it does not start with the line 'ply'");
+  enum class Encoding { Ascii, Little, Big } encoding = Encoding::Ascii;
+  bool format_seen = false, ended = false;
+  std::vector<PlyElement> elements;
+  long long line_no = 1;
   for (long long n = 2; std::getline(in, line); ++n) {
+    line_no = n;
     const std::vector<std::string> w = wordsOf(line);
     if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
     for (const char c : line)
       if (!std::isprint(static_cast<unsigned char>(c)) && c != '\t' && c != '\r') bad(n, "holds a byte that is not text");
-    if (w[0] == "end_header") return;
+    if (w[0] == "end_header") {
+      ended = true;
+      break;
+    }
     if (w[0] == "format") {
       if (w.size() != 3 || (w[1] != "ascii" && w[1] != "binary_little_endian" && w[1] != "binary_big_endian") ||
           w[2] != "1.0")
         bad(n, "is not 'format ascii|binary_little_endian|binary_big_endian 1.0'");
+      encoding = w[1] == "ascii" ? Encoding::Ascii : w[1] == "binary_little_endian" ? Encoding::Little : Encoding::Big;
+      format_seen = true;
     } else if (w[0] == "element") {
       if (w.size() != 3 || w[2].find_first_not_of("0123456789") != std::string::npos || w[2].size() > 18)
         bad(n, "is not 'element <name> <count>'");
-      element_seen = true;
+      elements.push_back({w[1], std::stoll(w[2]), {}});
     } else if (w[0] == "property") {
-      // (OpenMesh adds a property to the last element without looking: a segmentation fault)
-      if (!element_seen) bad(n, "is a property before any element line");
-      if (!(w.size() == 3 && type(w[1])) && !(w.size() == 5 && w[1] == "list" && type(w[2]) && type(w[3])))
+      if (elements.empty()) bad(n, "is a property before any element line");
+      PlyProperty p;
+      const bool scalar = w.size() == 3 && type(w[1], p.type, p.real, p.is_signed);
+      bool real_count = false;
+      const bool list = w.size() == 5 && w[1] == "list" && type(w[2], p.count_type, real_count, p.count_signed) &&
+                        type(w[3], p.type, p.real, p.is_signed);
+      if (!scalar && !list)
         bad(n, "is not 'property <type> <name>' or 'property list <type> <type> <name>' with PLY types "
                "(char, uchar, short, ushort, int, uint, float, double, or int8 ... float64)");
+      if (list && real_count) bad(n, "gives a list a count of a real type; a count is an integer type");
+      p.list = list;
+      p.name = w.back();
+      elements.back().properties.push_back(p);
     } else {
       bad(n, "is none of format, element, property, comment, obj_info and end_header");
     }
   }
-  fail(ErrorCode::InvalidFile, "the mesh '" + path + "' is not a valid PLY file: its header has no 'end_header' line");
+  if (!ended) fail(ErrorCode::InvalidFile, name + "its header has no 'end_header' line");
+  if (!format_seen) fail(ErrorCode::InvalidFile, name + "its header has no 'format' line");
+
+  // Where the mesh is: the vertex element's x, y, z and the face element's index list.
+  int vertex_element = -1, face_element = -1;
+  std::array<int, 3> xyz{{-1, -1, -1}};
+  int indices = -1;
+  for (std::size_t e = 0; e < elements.size(); ++e) {
+    const PlyElement& el = elements[e];
+    if (el.properties.empty() && el.count > 0)
+      fail(ErrorCode::InvalidFile, name + "element '" + shownLine(el.name) + "' declares no property");
+    if (el.name == "vertex" && vertex_element < 0) {
+      vertex_element = static_cast<int>(e);
+      for (std::size_t p = 0; p < el.properties.size(); ++p)
+        for (int k = 0; k < 3; ++k)
+          if (el.properties[p].name == std::string(1, static_cast<char>('x' + k)) && !el.properties[p].list) xyz[static_cast<std::size_t>(k)] = static_cast<int>(p);
+    }
+    if (el.name == "face" && face_element < 0) {
+      face_element = static_cast<int>(e);
+      for (std::size_t p = 0; p < el.properties.size(); ++p)
+        if (el.properties[p].list && (el.properties[p].name == "vertex_indices" || el.properties[p].name == "vertex_index")) {
+          indices = static_cast<int>(p);
+          if (el.properties[p].real)
+            fail(ErrorCode::InvalidFile, name + "the faces' list '" + el.properties[p].name + "' has a real item type; indices are integers");
+        }
+      if (indices < 0 && el.count > 0)
+        fail(ErrorCode::InvalidFile, name + "its face element has no list property 'vertex_indices' (or 'vertex_index')");
+    }
+  }
+  if (vertex_element < 0 || xyz[0] < 0 || xyz[1] < 0 || xyz[2] < 0)
+    fail(ErrorCode::InvalidFile, name + "it has no element 'vertex' with the properties x, y and z");
+
+  // The data: every element in order.
+  std::error_code ec;
+  const std::uintmax_t file_size = fs::file_size(path, ec);
+  const auto data_start = static_cast<std::uintmax_t>(in.tellg());
+  const std::uintmax_t data_bytes = ec || file_size < data_start ? 0 : file_size - data_start;
+  for (const PlyElement& el : elements) {
+    // (an element takes at least a byte per value in binary, two in ASCII: no more elements than
+    // the file can hold, before anything is allocated)
+    const std::uintmax_t least = static_cast<std::uintmax_t>(el.properties.size()) * (encoding == Encoding::Ascii ? 2 : 1);
+    if (least > 0 && static_cast<std::uintmax_t>(el.count) > data_bytes / least + 1)
+      fail(ErrorCode::InvalidFile, name + "its header announces " + std::to_string(el.count) + " elements '" + shownLine(el.name) +
+                                       "', more than the file's " + std::to_string(data_bytes) + " bytes of data can hold");
+  }
+  ParsedMesh mesh;
+  mesh.read = true;
+  mesh.points.reserve(static_cast<std::size_t>(elements[static_cast<std::size_t>(vertex_element)].count));
+  if (face_element >= 0) mesh.polygons.reserve(static_cast<std::size_t>(elements[static_cast<std::size_t>(face_element)].count));
+  std::vector<std::vector<int>> corners;  // per face (the vertex count may come later)
+  std::vector<char> binary;
+  std::size_t at = 0;
+  if (encoding != Encoding::Ascii) {
+    binary.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  // Binary: the next value of `size` bytes, as a double (real) or an integer.
+  auto raw = [&](int size, std::uint64_t& bits) {
+    if (binary.size() - at < static_cast<std::size_t>(size)) return false;
+    bits = 0;
+    for (int j = 0; j < size; ++j)
+      bits = bits << 8 | static_cast<unsigned char>(binary[at + static_cast<std::size_t>(encoding == Encoding::Big ? j : size - 1 - j)]);
+    at += static_cast<std::size_t>(size);
+    return true;
+  };
+  auto integerOf = [](std::uint64_t bits, int size, bool is_signed) -> long long {
+    if (!is_signed || size == 8) return static_cast<long long>(bits);
+    const std::uint64_t sign = std::uint64_t{1} << (8 * size - 1);
+    return static_cast<long long>((bits ^ sign)) - static_cast<long long>(sign);
+  };
+  auto realOf = [](std::uint64_t bits, int size) {
+    if (size == 8) {
+      double d;
+      std::memcpy(&d, &bits, 8);
+      return d;
+    }
+    const auto b32 = static_cast<std::uint32_t>(bits);
+    float f;
+    std::memcpy(&f, &b32, 4);
+    return static_cast<double>(f);
+  };
+  auto integerToken = [](const std::string& t, long long& v) {
+    const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
+    return r.ec == std::errc() && r.ptr == t.data() + t.size();
+  };
+  for (std::size_t e = 0; e < elements.size(); ++e) {
+    const PlyElement& el = elements[e];
+    const bool is_vertex = static_cast<int>(e) == vertex_element, is_face = static_cast<int>(e) == face_element;
+    std::vector<std::string> tokens;
+    for (long long i = 0; i < el.count; ++i) {
+      const std::string which = "element '" + shownLine(el.name) + "' " + std::to_string(i);
+      auto ends = [&]() {
+        fail(ErrorCode::InvalidFile, name + "the file ends after " + std::to_string(i) + " of the " + std::to_string(el.count) +
+                                         " elements '" + shownLine(el.name) + "' its header announces");
+      };
+      std::size_t token = 0;
+      if (encoding == Encoding::Ascii) {
+        do {
+          if (!std::getline(in, line)) ends();
+          ++line_no;
+          tokens = wordsOf(line);
+        } while (tokens.empty());
+      }
+      auto where = [&]() {
+        return encoding == Encoding::Ascii ? "line " + std::to_string(line_no) + ": " + which : which;
+      };
+      // The next value of property p's type (size, real, sign): as a double and, for an integer
+      // type, as an integer too.
+      auto value = [&](int size, bool real, bool is_signed, double& x, long long& k) {
+        if (encoding == Encoding::Ascii) {
+          if (token >= tokens.size())
+            fail(ErrorCode::InvalidFile, name + where() + " has fewer values than its properties declare: '" + shownLine(line) + "'");
+          const std::string& t = tokens[token++];
+          if (real ? !wholeNumber(t, x) : !integerToken(t, k))
+            fail(ErrorCode::InvalidFile, name + where() + ": '" + shownLine(t) + "' is not " + (real ? "a number" : "an integer"));
+          if (!real) x = static_cast<double>(k);
+          return;
+        }
+        std::uint64_t bits = 0;
+        if (!raw(size, bits)) ends();
+        if (real) {
+          x = realOf(bits, size);
+        } else {
+          k = integerOf(bits, size, is_signed);
+          x = static_cast<double>(k);
+        }
+      };
+      Eigen::Vector3d point = Eigen::Vector3d::Zero();
+      for (std::size_t p = 0; p < el.properties.size(); ++p) {
+        const PlyProperty& prop = el.properties[p];
+        double x = 0;
+        long long k = 0;
+        if (!prop.list) {
+          value(prop.type, prop.real, prop.is_signed, x, k);
+          if (is_vertex)
+            for (int c = 0; c < 3; ++c)
+              if (xyz[static_cast<std::size_t>(c)] == static_cast<int>(p)) point[c] = x;
+          continue;
+        }
+        long long count = 0;
+        value(prop.count_type, false, prop.count_signed, x, count);
+        // (each item takes at least a byte, or a token)
+        const std::size_t left = encoding == Encoding::Ascii ? tokens.size() - token : (binary.size() - at) / static_cast<std::size_t>(prop.type);
+        if (count < 0 || static_cast<unsigned long long>(count) > left)
+          fail(ErrorCode::InvalidFile, name + where() + ": list '" + prop.name + "' announces " + std::to_string(count) +
+                                           " items, but " + std::to_string(left) + " values follow");
+        const bool keep = is_face && static_cast<int>(p) == indices;
+        std::vector<int> items;
+        if (keep) items.reserve(static_cast<std::size_t>(count));
+        for (long long j = 0; j < count; ++j) {
+          value(prop.type, prop.real, prop.is_signed, x, k);
+          if (!keep) continue;
+          if (k < 0 || k > std::numeric_limits<int>::max())
+            fail(ErrorCode::InvalidFile, "the mesh '" + path + "' is corrupt: face " + std::to_string(corners.size()) +
+                                             " refers to vertex " + std::to_string(k) + ", which is no vertex index");
+          items.push_back(static_cast<int>(k));
+        }
+        if (keep) corners.push_back(std::move(items));
+      }
+      if (encoding == Encoding::Ascii && token != tokens.size())
+        fail(ErrorCode::InvalidFile, name + where() + " has " + std::to_string(tokens.size() - token) +
+                                         " values more than its properties declare (each element must be on its own line): '" +
+                                         shownLine(line) + "'");
+      if (is_vertex) {
+        if (!point.allFinite())
+          fail(ErrorCode::InvalidFile, name + where() + ": the vertex has a NaN or infinite coordinate");
+        mesh.points.push_back(point);
+      }
+    }
+  }
+  const long long nv = static_cast<long long>(mesh.points.size());
+  for (std::size_t f = 0; f < corners.size(); ++f) {
+    for (const int v : corners[f])
+      if (v >= nv)
+        fail(ErrorCode::InvalidFile, "the mesh '" + path + "' is corrupt: face " + std::to_string(f) + " refers to vertex " +
+                                         std::to_string(v) + " but there are " + std::to_string(nv) + " vertices");
+    if (corners[f].size() >= 3) mesh.polygons.push_back(std::move(corners[f]));
+  }
+  return mesh;
 }
 
 // The face lines of an OBJ file ("f c1 c2 c3 ..."), checked before OpenMesh reads them: each
@@ -729,25 +859,23 @@ TriangleMesh readMesh(const std::string& path) {
     }
   }
 
-  TextOff off;
-  if (format == MeshFormat::Off) off = readTextOff(path);
+  ParsedMesh own;  // (text OFF and PLY: steady's parsers)
+  if (format == MeshFormat::Off) own = readTextOff(path);
+  if (format == MeshFormat::Ply) own = readPly(path);
   if (format == MeshFormat::Stl) checkBinaryStlSize(path);
-  if (format == MeshFormat::Ply) checkPlyHeader(path);
   if (format == MeshFormat::Obj) checkObjFaces(path);
 
   TriangleMesh mesh;
   std::vector<std::vector<int>> polygons;
   std::string what_said;  // what OpenMesh said while reading, for the messages below
-  if (off.read) {
-    mesh.vertices = std::move(off.points);
-    polygons = std::move(off.polygons);
+  if (own.read) {
+    mesh.vertices = std::move(own.points);
+    polygons = std::move(own.polygons);
   } else {
     Collector collected = readWithOpenMesh(path, format, what_said);
-    // (an OBJ or PLY file's own coordinates, in double, where there are as many as OpenMesh
-    // read, in float)
-    std::vector<Eigen::Vector3d> exact = format == MeshFormat::Obj   ? objVertices(path)
-                                         : format == MeshFormat::Ply ? plyVertices(path)
-                                                                     : std::vector<Eigen::Vector3d>();
+    // (an OBJ file's own coordinates, in double, where there are as many as OpenMesh read, in
+    // float)
+    std::vector<Eigen::Vector3d> exact = format == MeshFormat::Obj ? objVertices(path) : std::vector<Eigen::Vector3d>();
     mesh.vertices = exact.size() == collected.points.size() ? std::move(exact) : std::move(collected.points);
     polygons = std::move(collected.polygons);
   }

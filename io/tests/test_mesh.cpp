@@ -427,6 +427,89 @@ TEST_F(MeshIo, ReadTextOffLineByLine) {
               {"four.off", "line 1: the header '4OFF' announces 4D or n-dimensional vertices"});
 }
 
+// PLY is read by steady as its header declares, in ASCII one element per line. OpenMesh 9 read
+// ASCII data as tokens: a line with one value too many shifted every later one until a
+// coordinate was taken for a list of millions of indices (tests/fuzz/corpus/mesh/
+// ply_ascii_line_shift).
+TEST_F(MeshIo, ReadPlyAsItsHeaderDeclares) {
+  const std::vector<Eigen::Vector3d> corners = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const std::vector<std::array<int, 3>> faces = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  const std::string vertex = "element vertex 4\nproperty double x\nproperty double y\nproperty double z\n";
+  const std::string face = "element face 4\nproperty list uchar int vertex_indices\n";
+  const std::string points = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+  const std::string tris = "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  const auto expectTetrahedron = [&](const std::string& name, const std::string& text) {
+    SCOPED_TRACE(name);
+    writeText(name, text);
+    const TriangleMesh m = steady::io::readMesh(path(name));
+    EXPECT_EQ(m.vertices, corners);
+    EXPECT_EQ(m.faces, faces);
+  };
+  // faces before vertices, other elements and properties, integer coordinates, CRLF lines
+  expectTetrahedron("order.ply", "ply\r\nformat ascii 1.0\r\nelement face 4\r\nproperty list uint8 uint32 vertex_index\r\n"
+                                 "property uchar red\r\nelement vertex 4\r\nproperty int x\r\nproperty short y\r\n"
+                                 "property float z\r\nproperty list uchar float uv\r\nelement edge 1\r\nproperty int a\r\n"
+                                 "end_header\r\n3 0 2 1 255\r\n3 0 1 3 0\r\n3 0 3 2 7\r\n3 1 2 3 9\r\n0 0 0 0\r\n1 0 0 2 0.5 0.5\r\n"
+                                 "0 1 0 0\r\n0 0 1 1 3\r\n5\r\n");
+  {  // binary, little endian, with a list of another element between
+    std::string ply = "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                      "property float z\nelement tag 2\nproperty list ushort char name\n" + face + "end_header\n";
+    auto put = [&](const auto& x) { ply.append(reinterpret_cast<const char*>(&x), sizeof x); };  // the test host is little endian
+    for (const Eigen::Vector3d& c : corners)
+      for (int k = 0; k < 3; ++k) put(static_cast<float>(c[k]));
+    put(std::uint16_t{3}), ply += "abc", put(std::uint16_t{0});
+    for (const auto& f : faces) {
+      put(std::uint8_t{3});
+      for (const int v : f) put(std::int32_t{v});
+    }
+    expectTetrahedron("little.ply", ply);
+    // a list count of 2^31 - 1 items: refused before anything is allocated
+    std::string huge = ply.substr(0, ply.size() - 4 * 13);
+    huge += '\xff';
+    writeText("huge.ply", huge + std::string(12, '\xff'));
+    expectError([&] { steady::io::readMesh(path("huge.ply")); }, ErrorCode::InvalidFile,
+                {"huge.ply", "element 'face' 0: list 'vertex_indices' announces 255 items, but 3 values follow"});
+  }
+
+  const std::string head = "ply\nformat ascii 1.0\n" + vertex + face + "end_header\n";
+  writeText("extra.ply", head + "0 0 0\n1 0 0 7\n0 1 0\n0 0 1\n" + tris);
+  expectError([&] { steady::io::readMesh(path("extra.ply")); }, ErrorCode::InvalidFile,
+              {"extra.ply", "line 11: element 'vertex' 1 has 1 values more than its properties declare", "own line"});
+  writeText("few.ply", head + points + "3 0 2\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+  expectError([&] { steady::io::readMesh(path("few.ply")); }, ErrorCode::InvalidFile,
+              {"few.ply", "line 14: element 'face' 0: list 'vertex_indices' announces 3 items, but 2 values follow"});
+  writeText("short.ply", head + points + "3 0 2 1\n");
+  expectError([&] { steady::io::readMesh(path("short.ply")); }, ErrorCode::InvalidFile,
+              {"short.ply", "the file ends after 1 of the 4 elements 'face' its header announces"});
+  writeText("count.ply", "ply\nformat ascii 1.0\nelement vertex 99999999999\nproperty double x\nproperty double y\n"
+                         "property double z\nend_header\n0 0 0\n");
+  expectError([&] { steady::io::readMesh(path("count.ply")); }, ErrorCode::InvalidFile,
+              {"count.ply", "announces 99999999999 elements 'vertex', more than the file's 6 bytes of data can hold"});
+  writeText("index.ply", head + points + "3 0 2 1\n3 0 1 3\n3 0 3 2.0\n3 1 2 3\n");
+  expectError([&] { steady::io::readMesh(path("index.ply")); }, ErrorCode::InvalidFile,
+              {"index.ply", "line 16: element 'face' 2: '2.0' is not an integer"});
+  writeText("negative.ply", head + points + "3 0 2 1\n3 0 -1 3\n3 0 3 2\n3 1 2 3\n");
+  expectError([&] { steady::io::readMesh(path("negative.ply")); }, ErrorCode::InvalidFile,
+              {"negative.ply", "face 1 refers to vertex -1"});
+  writeText("nan.ply", head + "0 0 0\n1 nan 0\n0 1 0\n0 0 1\n" + tris);
+  expectError([&] { steady::io::readMesh(path("nan.ply")); }, ErrorCode::InvalidFile,
+              {"nan.ply", "line 11: element 'vertex' 1: the vertex has a NaN or infinite coordinate"});
+  writeText("novertex.ply", "ply\nformat ascii 1.0\nelement vertex 4\nproperty double x\nproperty double y\n" + face +
+                                "end_header\n0 0\n1 0\n0 1\n0 0\n" + tris);
+  expectError([&] { steady::io::readMesh(path("novertex.ply")); }, ErrorCode::InvalidFile,
+              {"novertex.ply", "no element 'vertex' with the properties x, y and z"});
+  writeText("realindex.ply", "ply\nformat ascii 1.0\n" + vertex + "element face 4\nproperty list uchar float vertex_indices\n"
+                                 "end_header\n" + points + tris);
+  expectError([&] { steady::io::readMesh(path("realindex.ply")); }, ErrorCode::InvalidFile,
+              {"realindex.ply", "has a real item type; indices are integers"});
+  writeText("empty.ply", "ply\nformat ascii 1.0\nelement thing 3\n" + vertex + face + "end_header\n" + points + tris);
+  expectError([&] { steady::io::readMesh(path("empty.ply")); }, ErrorCode::InvalidFile,
+              {"empty.ply", "element 'thing' declares no property"});
+  writeText("noformat.ply", "ply\n" + vertex + face + "end_header\n" + points + tris);
+  expectError([&] { steady::io::readMesh(path("noformat.ply")); }, ErrorCode::InvalidFile,
+              {"noformat.ply", "its header has no 'format' line"});
+}
+
 TEST_F(MeshIo, ReadingPrintsNothing) {
   writeText("bad.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 9\n");
   ::testing::internal::CaptureStderr();

@@ -4,11 +4,12 @@
 /// placing a mesh by a pose.
 ///
 /// The file format is always chosen by the extension of the path (case-insensitive): `.off`,
-/// `.ply`, `.obj`, `.stl`. Reading goes through OpenMesh's format readers; writing is done by
-/// steady itself, so that the file holds exactly the vertices and faces given, in their order,
-/// with every digit (OpenMesh's writers would rebuild a half-edge mesh, which splits
-/// non-manifold faces, and print 6 significant digits by default). Neither OpenMesh nor any
-/// other third-party type appears in this interface.
+/// `.ply`, `.obj`, `.stl`. Reading goes through steady's parsers (text OFF, PLY) or OpenMesh's
+/// readers (OBJ, STL, binary OFF); writing is done by steady itself, so that the file holds
+/// exactly the vertices and faces given, in their order, with every digit (OpenMesh's writers
+/// would rebuild a half-edge mesh, which splits non-manifold faces, and print 6 significant
+/// digits by default). Neither OpenMesh nor any other third-party type appears in this
+/// interface.
 
 #include <steady/core/affine.hpp>
 
@@ -41,10 +42,10 @@ enum class MeshFormat {
 MeshFormat meshFormatOf(const std::string& path);
 
 /// Reads a triangle mesh from an OFF, PLY, OBJ or STL file (the format comes from the
-/// extension; OFF, PLY and STL may be text or binary). Text OFF files (plain OFF and its
-/// variants COFF, NOFF, STOFF, ...) are parsed by steady; the other formats by OpenMesh, whose
-/// findings steady collects without building OpenMesh's half-edge structure. Either way the
-/// mesh is the file's content:
+/// extension; OFF, PLY and STL may be text or binary). Text OFF (plain OFF and its variants
+/// COFF, NOFF, STOFF, ...) and PLY (ASCII and binary, either byte order) are parsed by steady;
+/// OBJ, STL and binary OFF by OpenMesh, whose findings steady collects without building
+/// OpenMesh's half-edge structure. Either way the mesh is the file's content:
 /// - vertices keep their order in the file; faces keep their order and corner order, and
 ///   non-manifold or degenerate faces are kept as they are;
 /// - polygons with more than three corners become a fan of triangles around their first
@@ -52,31 +53,40 @@ MeshFormat meshFormatOf(const std::string& path);
 ///   than three corners are skipped;
 /// - STL stores every triangle with its own corners: equal corners are merged into one vertex,
 ///   in order of first appearance;
-/// - normals, colours and texture coordinates are ignored.
+/// - normals, colours, texture coordinates and other properties are ignored.
 ///
 /// Precision: the coordinates of text OFF, OBJ and PLY files are read in double (in text, the
-/// nearest double to each decimal), so a file written by writeMesh() reads back exactly.
-/// OpenMesh 9's readers hold coordinates as 32-bit floats, and their values (rounded to float,
-/// relative error at most 6e-8) stand for STL (text or binary), binary OFF, and a PLY file
-/// whose first element is not the vertices or whose vertices have a list property.
+/// nearest double to each decimal, whatever the C locale), so a file written by writeMesh()
+/// reads back exactly. OpenMesh 9's readers hold coordinates as 32-bit floats, and their
+/// values (rounded to float, relative error at most 6e-8) stand for STL (text or binary) and
+/// binary OFF.
 ///
 /// Text OFF, as steady reads it: the header (OFF or a variant [ST][C][N]OFF; 4OFF and nOFF,
 /// which are not 3D, are refused), the counts "vertices faces [edges]" (on the header's line or
 /// the next), then one line per vertex ("x y z", finite, then at most 9 more numbers: normal,
 /// colour, texture coordinates) and one line per face ("n i1 ... in" with indices in range,
 /// then at most 4 more numbers: a colour); '#' starts a comment, blank lines are skipped, and
-/// what follows the last face is ignored. (OpenMesh 9 reads a face's corners as tokens, so a
-/// face colour shifted every later face without an error; it also misread comments and counts
-/// on the header's line.)
+/// what follows the last face is ignored.
 ///
-/// Checks beyond OpenMesh's for the other formats: a binary OFF's header must be one of
-/// OFF's variants; a PLY header must be well formed (text lines of format 1.0, element,
-/// property with PLY's types after an element, comment and obj_info, up to end_header); OBJ
-/// face lines must have at least three corners v, v/t, v//n or v/t/n (OpenMesh aborts on
-/// others); a binary STL file must have the size its triangle count implies; a file of n bytes
-/// yields at most n/2 + 16 vertices and faces. (OpenMesh 9 follows header counts, not the end
-/// of the file, and its PLY reader loops on some malformed headers: each of these checks
-/// answers an input found by fuzzing, tests/fuzz.)
+/// PLY, as steady reads it: a header of the lines "ply", "format ascii|binary_little_endian|
+/// binary_big_endian 1.0", "element <name> <count>", "property <type> <name>", "property list
+/// <count type> <item type> <name>" (PLY's types), "comment ...", "obj_info ..." up to
+/// "end_header"; then every element as declared, in ASCII one per line with exactly its values.
+/// The mesh is the element "vertex" (properties x, y, z of any numeric type) and the list
+/// "vertex_indices" (or "vertex_index", of an integer type) of the element "face", which may
+/// come in either order; other elements and properties are read and ignored. No element count
+/// or list may announce more than the rest of the file can hold.
+///
+/// (OpenMesh 9 read text OFF faces and ASCII PLY data as tokens, not lines, so one value too
+/// many on a line (a face colour, valid OFF) shifted every later value, silently or until it
+/// allocated gigabytes; its PLY reader also never returned on some malformed headers. Each of
+/// these answers an input found by fuzzing, tests/fuzz.)
+///
+/// Checks beyond OpenMesh's for the other formats: a binary OFF's header must be one of OFF's
+/// variants; OBJ face lines must have at least three corners v, v/t, v//n or v/t/n (OpenMesh
+/// aborts on others); a binary STL file must have the size its triangle count implies; a file
+/// of n bytes yields at most n/2 + 16 vertices and faces (OpenMesh 9 follows header counts,
+/// not the end of the file).
 ///
 /// @throws Error(Io) when the file does not exist, is a directory or cannot be opened (the
 ///   message names the file and the system's reason);
