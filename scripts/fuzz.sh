@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs one libFuzzer target of tests/fuzz (ear, motion or mesh) for SECONDS (default 600), in
+# Runs one libFuzzer target of tests/fuzz (ear, motion, mesh or sweep) for SECONDS (default 600), in
 # its own build (BUILD_DIR, default build-fuzz/: Clang, AddressSanitizer, UBSan, libFuzzer).
 # The working corpus starts from tests/fuzz/corpus/TARGET and grows in
 # $BUILD_DIR/corpus/TARGET; inputs that fail are written to $BUILD_DIR/findings/TARGET/.
@@ -10,11 +10,11 @@
 # Needs clang and libclang-rt-14-dev (scripts/install-deps.sh --fuzz installs them).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
-target=${1:?usage: scripts/fuzz.sh ear|motion|mesh [SECONDS] [libFuzzer options]}
+target=${1:?usage: scripts/fuzz.sh ear|motion|mesh|sweep [SECONDS] [libFuzzer options]}
 shift
 seconds=600
 if [[ ${1:-} =~ ^[0-9]+$ ]]; then seconds=$1; shift; fi
-case $target in ear | motion | mesh) ;; *) echo "unknown fuzz target '$target' (ear, motion or mesh)" >&2; exit 2 ;; esac
+case $target in ear | motion | mesh | sweep) ;; *) echo "unknown fuzz target '$target' (ear, motion, mesh or sweep)" >&2; exit 2 ;; esac
 build=${BUILD_DIR:-$root/build-fuzz}
 "$root/scripts/install-deps.sh" --fuzz
 CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSTEADY_FUZZ=ON \
