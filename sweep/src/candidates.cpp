@@ -4,24 +4,29 @@
 //
 // A body point at world position X0 at span time 0 is at X(τ) = A^τ X0. Its velocity is
 // X'(τ) = v(X(τ)) = L^τ v(X0) (the field is stationary and equivariant), so
-//   X''(τ) = M v(X(τ))  and, for τ in [τk, τk + h],  X''(τ) = M L^(τ-τk) v(X(τk)),
-//   |X''(τ)| <= μ e^(hμ) |v(X(τk))|,
-// with μ >= |M|_2 (an upper bound of the spectral norm) since |L^σ| = |exp(σM)| <= e^(|σ|μ).
-// The chord of X over [τk, τk + h] is then within h²/8 max|X''| of X (linear interpolation
+//   X''(τ) = M v(X(τ))  and, for τ in [τk, τk + h],  X''(τ) = L^(τ-τk) M v(X(τk)),
+// since M and L^σ = exp(σM) commute. For any w and σ in [0, h], with μ >= |M|_2 (an upper
+// bound of the spectral norm), |L^σ| <= e^(σμ) gives |L^σ w| <= e^(hμ) |w|, and Taylor's
+// formula e^(σM) w = w + σ M w + ∫_0^σ (σ - s) e^(sM) M² w ds gives
+// |L^σ w| <= |w| + h |M w| + h²/2 e^(hμ) |M² w|; B_h(w) denotes the first, or the second where
+// it is less than half of the first (detail::flowFactor; the second is exact for shears, where
+// M² w = 0). The chord of X over
+// [τk, τk + h] is within h²/8 max|X''| <= h²/8 B_h(M v(X(τk))) of X (linear interpolation
 // error). On a grazing segment the point set at time τk is the segment [Pk, Qk] (A^τ is affine)
-// and |v| is convex along it, so |v(X(τk))| <= Vk := max over the end points of the component's
-// segments of |v| at τk. The τ grid is chosen so that
-//   (1)  h²/8 μ e^(hμ) Vk <= ε/2.
+// and |M^j v| is convex along it (v is affine), so each of |M v|, |M² v|, |M³ v| is at most its
+// largest value over the end points of the component's segments at τk, and both bounds are
+// increasing in each. The τ grid is chosen so that
+//   (1)  h²/8 B_h(M v) <= ε/2   (M v at the end points at τk).
 // Let F(s, τ) = (1 - s) X_P(τ) + s X_Q(τ) be the true strip of a segment. F is affine in s, so its
 // bilinear interpolant Bil on a cell [si, si+1] x [τk, τk+1] differs from F by at most the
 // chordal error (1) of the two edge trajectories. The two triangles split along the cell's
 // diagonal differ from Bil by at most |d|/4, d = F(si+1,τk+1) - F(si,τk+1) - F(si+1,τk) + F(si,τk)
 // the cell's twist: with Bil = a + b s + c w + d s w in local coordinates, the interpolant of sw
 // on the triangle {w <= s} is w, and |sw - w| = w(1 - s) <= 1/4 there (symmetric on the other).
-// d = Δs ∫ ∂τ (X_Q - X_P) dτ = Δs ∫ M L^τ e dτ with e = Q0 - P0, so
-//   |d| <= Δs h μ e^(hμ) |ek|,   ek = Qk - Pk  (the segment at τk),
+// d = Δs ∫ ∂τ (X_Q - X_P) dτ = Δs ∫ L^(τ-τk) M ek dτ with ek = Qk - Pk (the segment at τk), so
+//   |d| <= Δs h B_h(M ek),
 // and the number of pieces m (Δs = 1/m) is chosen so that
-//   (2)  h μ e^(hμ) |ek| / (4 m) <= ε/2   on every cell of the segment's grid.
+//   (2)  h B_h(M ek) / (4 m) <= ε/2   on every cell of the segment's grid.
 // Any true strip point is thus within ε/2 + ε/2 = ε of the triangles of its own cell.
 #include <steady/sweep/candidates.hpp>
 
@@ -148,11 +153,11 @@ void appendSpan(CandidateSurface& out, const Body& body, const Span3& span, int 
       // Row at tau: vertices (cap vertices where the point is a body vertex at τ = 0 or 1).
       const Affine3 pose = poseAt(tau);
       std::vector<int> row(gp.size());
-      double V = 0.0;
+      detail::FlowNorms accel;  // of M v over the points (tessellation.hpp)
       for (std::size_t i = 0; i < gp.size(); ++i) {
         const GrazingPoint& q = pts[gp[i]];
         const Vec x = pose(q.body);
-        V = std::max(V, (M * x + u).norm());
+        accel.include(detail::FlowNorms::of(M, M * (M * x + u)));
         if (q.vertex >= 0 && (tau == 0.0 || tau == 1.0)) {
           row[i] = (tau == 0.0 ? start_base : end_base) + q.vertex;
         } else {
@@ -167,7 +172,7 @@ void appendSpan(CandidateSurface& out, const Body& body, const Span3& span, int 
                     "spanCandidates: more than " + std::to_string(options.max_steps) + " time steps on span " +
                         std::to_string(span_index) + " for tolerance " + std::to_string(eps) +
                         "; raise the tolerance (or max_steps)");
-      tau = detail::nextGridTime(tau, mu * V, mu, eps);
+      tau = detail::nextGridTime(tau, accel, mu, eps);
       grid.tau.push_back(tau);
     }
     out.grids.push_back(std::move(grid));
@@ -182,11 +187,11 @@ void appendSpan(CandidateSurface& out, const Body& body, const Span3& span, int 
     const auto& rows = row_vertex[g];
     const int a = local_index[seg.points[0]], b = local_index[seg.points[1]];
     const std::size_t K = grid.tau.size() - 1;
-    double twist = 0.0;  // max over cells of h μ e^(hμ) |ek| / 4
+    double twist = 0.0;  // max over cells of h max_σ |L^σ M ek| / 4
     for (std::size_t k = 0; k < K; ++k) {
       const double h = grid.tau[k + 1] - grid.tau[k];
-      const double ek = (out.vertices[rows[k][b]] - out.vertices[rows[k][a]]).norm();
-      twist = std::max(twist, detail::cellTwist(h, mu, mu * ek));
+      const Vec ek = out.vertices[rows[k][b]] - out.vertices[rows[k][a]];
+      twist = std::max(twist, detail::cellTwist(h, mu, detail::FlowNorms::of(M, M * ek)));
     }
     const int m = detail::piecesFor(twist, eps, options.max_steps,
                                     "spanCandidates: segment " + std::to_string(j) + " of span " +

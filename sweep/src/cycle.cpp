@@ -405,10 +405,10 @@ SpanPlanPtr planSpan(const Body& body, const Span3& span, const Affine3* end_giv
       const Affine3 pose = poseAt(tau, first, last);
       std::vector<Vec> row;
       row.reserve(comp_points[c].size());
-      double accel = 0.0;  // max |M v| over the points (tessellation.hpp)
+      FlowNorms accel;  // of M v over the points (tessellation.hpp)
       for (int q : comp_points[c]) {
         row.push_back(pose(pt[q]));
-        accel = std::max(accel, (M * (M * row.back() + u)).norm());
+        accel.include(FlowNorms::of(M, M * (M * row.back() + u)));
       }
       grid.tau.push_back(tau);
       grid.pose.push_back(pose);
@@ -431,7 +431,7 @@ SpanPlanPtr planSpan(const Body& body, const Span3& span, const Affine3* end_giv
     double twist = 0.0;
     for (std::size_t k = 0; k + 1 < grid.tau.size(); ++k) {
       const Vec e = grid.world[k][local[s.q]] - grid.world[k][local[s.p]];
-      twist = std::max(twist, cellTwist(grid.tau[k + 1] - grid.tau[k], mu, (M * e).norm()));
+      twist = std::max(twist, cellTwist(grid.tau[k + 1] - grid.tau[k], mu, FlowNorms::of(M, M * e)));
     }
     const int m = piecesFor(twist, eps, max_steps, where + ", boundary segment " + std::to_string(j));
     for (int i = 1; i < m; ++i) {
