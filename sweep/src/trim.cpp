@@ -52,6 +52,7 @@
 #include "filling.hpp"
 #include "settle.hpp"
 #include "pinches.hpp"
+#include "separation.hpp"
 
 #include <steady/core/error.hpp>
 
@@ -347,9 +348,10 @@ class DoublePlanes {
     }
   }
   // Whether the corners of one triangle, but those it shares with the other, lie strictly on
-  // one side of the other's plane, certain in doubles (false when unsure): the triangles then
-  // meet in their shared corners at most.
-  bool apart(int s, int t) const { return oneSide(s, t) || oneSide(t, s); }
+  // one side of the other's plane, or a plane through their one shared corner (or any plane,
+  // with none shared) separates them (separation.hpp), certain in doubles (false when unsure):
+  // the triangles then meet in their shared corners at most.
+  bool apart(int s, int t) const { return oneSide(s, t) || oneSide(t, s) || separated(s, t); }
 
  private:
   // +1 or -1: the certain side of point v against the plane of triangle f; 0: unsure.
@@ -379,6 +381,23 @@ class DoublePlanes {
       s0 = s;
     }
     return s0 != 0;
+  }
+  // Coplanar triangles, which the planes above cannot part: a plane through their one shared
+  // corner, or a separating axis when they share none.
+  bool separated(int s, int t) const {
+    const Tri &a = T_[s], &b = T_[t];
+    const auto corner = [&](int v) {
+      return detail::PadPoint{V_[v], inexact_ && (*inexact_)[v] ? 0.5 * d_ : 0.0};
+    };
+    int shared = 0, ia = -1, ib = -1;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        if (a[i] == b[j]) ++shared, ia = i, ib = j;
+    if (shared == 0)
+      return detail::certainlyDisjoint({{corner(a[0]), corner(a[1]), corner(a[2])}}, {{corner(b[0]), corner(b[1]), corner(b[2])}});
+    if (shared != 1) return false;
+    return detail::meetAtSharedCornerOnly(corner(a[ia]), corner(a[(ia + 1) % 3]), corner(a[(ia + 2) % 3]),
+                                          corner(b[(ib + 1) % 3]), corner(b[(ib + 2) % 3]));
   }
   const std::vector<Vec>& V_;
   const std::vector<Tri>& T_;
