@@ -53,6 +53,7 @@
 #include "settle.hpp"
 #include "pinches.hpp"
 #include "separation.hpp"
+#include "slivers.hpp"
 
 #include <steady/core/error.hpp>
 
@@ -5500,6 +5501,24 @@ Draft envelopeOf(detail::Cycle cycle, double eps, double eps_t, std::size_t span
 
   t0 = std::chrono::steady_clock::now();
   computeCheck(env.check, env.vertices, env.triangles, options.check, options.threads);
+  if (env.check.self_intersections > 0) {
+    // Cap slivers of rounding (slivers.hpp), flipped away only from an envelope that fails its
+    // check, and kept only when the check then finds fewer crossing pairs: every envelope that
+    // passes stays the same to the last bit.
+    Vec lo = Vec::Constant(HUGE_VAL), hi = -lo;
+    for (const Vec& x : env.vertices) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+    std::vector<Tri> flipped = env.triangles;
+    const std::size_t flips = detail::flipCapSlivers(env.vertices, flipped, kSnap * (hi - lo).norm());
+    if (flips > 0) {
+      MeshCheck again;
+      computeCheck(again, env.vertices, flipped, true, options.threads);
+      if (again.closed && again.manifold && again.oriented && again.self_intersections < env.check.self_intersections) {
+        env.triangles.swap(flipped);
+        env.check = again;
+        env.rounding_slivers_flipped = flips;
+      }
+    }
+  }
   env.volume = env.check.volume;
   env.area = env.check.area;
   env.timings.check = seconds(t0);
