@@ -8,8 +8,11 @@
 // check (FUZZ_CHECK below).
 #include <steady/core/error.hpp>
 
+#include <cstddef>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <exception>
 
 // Aborts with `what` when `cond` is false.
@@ -45,5 +48,33 @@ bool typedOrOk(const char* what, Fn&& fn) {
     std::abort();
   }
 }
+
+// Numbers read from a fuzz input, one after the other: as raw doubles (8 bytes each, so NaN,
+// infinities, subnormals, huge and tiny values), or as small exact values (one signed byte each,
+// divided by 16: exact zeros, halves, repeated eigenvalues, half and quarter turns, and the
+// other case borders). `fallback` once the input is used up.
+class NumberReader {
+ public:
+  NumberReader(const std::uint8_t* data, std::size_t size, bool raw) : data_(data), size_(size), raw_(raw) {}
+  double next(double fallback) {
+    if (raw_) {
+      if (at_ + 8 > size_) return fallback;
+      double x;
+      std::memcpy(&x, data_ + at_, 8);
+      at_ += 8;
+      return x;
+    }
+    if (at_ + 1 > size_) return fallback;
+    return static_cast<std::int8_t>(data_[at_++]) / 16.0;
+  }
+  // Bytes read so far.
+  std::size_t position() const { return at_; }
+
+ private:
+  const std::uint8_t* data_;
+  std::size_t size_;
+  bool raw_;
+  std::size_t at_ = 0;
+};
 
 }  // namespace steady::fuzz

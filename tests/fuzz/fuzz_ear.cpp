@@ -53,22 +53,12 @@ void run(const std::uint8_t* data, std::size_t size_in, bool raw) {
   using A_t = steady::Affine<D>;
   typename A_t::Linear L = A_t::Linear::Identity();
   typename A_t::Vector t = A_t::Vector::Zero();
-  std::size_t at = 0;
-  auto next = [&](double fallback) {
-    if (raw) {
-      if (at + 8 > size_in) return fallback;
-      double x;
-      std::memcpy(&x, data + at, 8);
-      at += 8;
-      return x;
-    }
-    if (at + 1 > size_in) return fallback;
-    return static_cast<std::int8_t>(data[at++]) / 16.0;
-  };
+  steady::fuzz::NumberReader in(data, size_in, raw);
   for (int r = 0; r < D; ++r) {
-    for (int c = 0; c < D; ++c) L(r, c) = next(L(r, c));
-    t(r) = next(0.0);
+    for (int c = 0; c < D; ++c) L(r, c) = in.next(L(r, c));
+    t(r) = in.next(0.0);
   }
+  const std::size_t at = in.position();
   const double tt = at < size_in ? static_cast<std::int8_t>(data[at]) / 32.0 : 0.5;
   const A_t A(L, t);
 
