@@ -293,7 +293,10 @@ struct Envelope {
   std::size_t buried_dents_filled = 0;
   /// Vertices merged after rounding because they lay within 1e-13 times the envelope's box
   /// diagonal of another (distinct exact points a few ulps apart, whose rounded slivers would
-  /// cross); the triangles they collapse are dropped, which keeps the surface closed.
+  /// cross); the triangles they collapse are dropped, which keeps the surface closed. When the
+  /// envelope so merged fails its check, it is finished again without merging, and that one is
+  /// returned (with 0 here) if it passes: merging itself folded faces in the sliding planes of
+  /// planar motions.
   std::size_t rounding_merged = 0;
   /// When the output check found self-intersecting pairs: slivers left by rounding that were
   /// flipped away (triangles whose corner lay on their opposite side within 1e-13 times the
