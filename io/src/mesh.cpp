@@ -312,6 +312,12 @@ bool wholeNumber(const std::string& t, double& x) {
   return r.ec == std::errc() && r.ptr == last;
 }
 
+// Whether token t is one decimal integer (an optional '-', digits), read into x.
+bool wholeInteger(const std::string& t, long long& x) {
+  const auto r = std::from_chars(t.data(), t.data() + t.size(), x);
+  return r.ec == std::errc() && r.ptr == t.data() + t.size();
+}
+
 // A mesh file read by steady's own parsers (text OFF, PLY), as the file holds it.
 struct ParsedMesh {
   bool read = false;  // false: left to OpenMesh (a binary OFF)
@@ -358,10 +364,6 @@ ParsedMesh readTextOff(const std::string& path) {
     }
     return false;
   };
-  const auto integer = [&](const std::string& t, long long& out) {
-    const auto r = std::from_chars(t.data(), t.data() + t.size(), out);
-    return r.ec == std::errc() && r.ptr == t.data() + t.size();
-  };
   const auto real = [](const std::string& t, double& x) { return wholeNumber(t, x) && std::isfinite(x); };
   // Tokens [from, tokens.size()) are numbers (a colour, normal or texture coordinates after a
   // vertex's position or a face's corners), at most `most` of them.
@@ -393,8 +395,8 @@ ParsedMesh readTextOff(const std::string& path) {
   tokens.erase(tokens.begin());
   if (tokens.empty() && !next()) bad("the file ends before the counts 'vertices faces edges'");
   long long nv = -1, nf = -1, ne = 0;
-  if (tokens.size() < 2 || tokens.size() > 3 || !integer(tokens[0], nv) || !integer(tokens[1], nf) || nv < 0 || nf < 0 ||
-      (tokens.size() == 3 && !integer(tokens[2], ne)))
+  if (tokens.size() < 2 || tokens.size() > 3 || !wholeInteger(tokens[0], nv) || !wholeInteger(tokens[1], nf) || nv < 0 || nf < 0 ||
+      (tokens.size() == 3 && !wholeInteger(tokens[2], ne)))
     bad("expected the counts 'vertices faces edges', got '" + shownLine(line) + "'");
   if (nv > std::numeric_limits<int>::max())
     bad("the file announces " + std::to_string(nv) + " vertices, more than steady's meshes index (2^31 - 1)");
@@ -415,12 +417,12 @@ ParsedMesh readTextOff(const std::string& path) {
   for (long long i = 0; i < nf; ++i) {
     if (!next()) bad("the file ends after " + std::to_string(i) + " of the " + std::to_string(nf) + " faces it announces");
     long long k = -1;
-    if (!integer(tokens[0], k) || k < 0 || static_cast<std::size_t>(k) + 1 > tokens.size())
+    if (!wholeInteger(tokens[0], k) || k < 0 || static_cast<std::size_t>(k) + 1 > tokens.size())
       bad("expected face " + std::to_string(i) + " as 'n i1 ... in' (n corner indices) on one line, got '" + shownLine(line) + "'");
     std::vector<int> poly(static_cast<std::size_t>(k));
     for (long long c = 1; c <= k; ++c) {
       long long idx = -1;
-      if (!integer(tokens[static_cast<std::size_t>(c)], idx) || idx < 0 || idx >= nv)
+      if (!wholeInteger(tokens[static_cast<std::size_t>(c)], idx) || idx < 0 || idx >= nv)
         bad("face " + std::to_string(i) + ": corner '" + shownLine(tokens[static_cast<std::size_t>(c)]) +
             "' is not a vertex index in 0.." + std::to_string(nv - 1));
       poly[static_cast<std::size_t>(c - 1)] = static_cast<int>(idx);
@@ -634,10 +636,6 @@ ParsedMesh readPly(const std::string& path) {
     std::memcpy(&f, &b32, 4);
     return static_cast<double>(f);
   };
-  auto integerToken = [](const std::string& t, long long& v) {
-    const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
-    return r.ec == std::errc() && r.ptr == t.data() + t.size();
-  };
   for (std::size_t e = 0; e < elements.size(); ++e) {
     const PlyElement& el = elements[e];
     const bool is_vertex = static_cast<int>(e) == vertex_element, is_face = static_cast<int>(e) == face_element;
@@ -666,7 +664,7 @@ ParsedMesh readPly(const std::string& path) {
           if (token >= tokens.size())
             fail(ErrorCode::InvalidFile, name + where() + " has fewer values than its properties declare: '" + shownLine(line) + "'");
           const std::string& t = tokens[token++];
-          if (real ? !wholeNumber(t, x) : !integerToken(t, k))
+          if (real ? !wholeNumber(t, x) : !wholeInteger(t, k))
             fail(ErrorCode::InvalidFile, name + where() + ": '" + shownLine(t) + "' is not " + (real ? "a number" : "an integer"));
           if (!real) x = static_cast<double>(k);
           return;
@@ -744,8 +742,7 @@ void checkObjFaces(const std::string& path) {
   auto index = [](const std::string& t, bool may_be_empty) {
     if (t.empty()) return may_be_empty;
     long long x = 0;
-    const auto r = std::from_chars(t.data(), t.data() + t.size(), x);
-    return r.ec == std::errc() && r.ptr == t.data() + t.size() && x != 0;
+    return wholeInteger(t, x) && x != 0;
   };
   for (long long n = 1; std::getline(in, line); ++n) {
     std::istringstream words(line);
