@@ -533,6 +533,9 @@ struct Arrangement {
   // Per face: the cycle triangle it was cut from (of the first layer, for merged faces). Faces
   // cut from one triangle lie in its plane and do not overlap.
   std::vector<int> source;
+  // The cycle triangles (corners numbered as `points`: input points, whose exact values are
+  // leaves, not constructions), by the numbers in `source`.
+  std::vector<Tri> sources;
   std::size_t crossing_pairs = 0;
   std::size_t merged = 0;     // faces folded into a coincident face
   std::size_t cancelled = 0;  // faces dropped because coincident layers cancelled
@@ -1630,6 +1633,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
     }
   }
   mergeCoincident(out, options.threads);
+  out.sources = std::move(T);
   return out;
 }
 
@@ -1957,6 +1961,28 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
   L.w_front.assign(np, 0);
   L.jump.assign(np, 0);
   L.group.assign(np, 0);
+  // The side of face f's plane that ray r's origin lies on. The origin is a construction on
+  // the representative face's corners, themselves often constructions several levels deep, and
+  // when it lies in f's plane only its exact value can tell: in the planes in which a motion
+  // slides faces or edges, hundreds of faces lie in the origin's plane, and each such test ran
+  // in rationals of great length (the tetrahedron along
+  // tests/sweep/fixtures/tetra_shear_keeps_z.json: 80% of its sweep, 0.13 s a ray on a cube).
+  // The intervals decide first; when they cannot, the planes of the two faces' cycle triangles
+  // (input points, exact leaves) are compared: the origin lies in the representative face's
+  // source plane, so in f's plane when the two planes are one.
+  auto originSide = [&](const Tri& t, std::size_t f, const Ray& r) {
+    {
+      CGAL::Protect_FPU_rounding<true> guard;
+      const CGAL::Uncertain<CGAL::Orientation> o =
+          CGAL::orientation(P[t[0]].approx(), P[t[1]].approx(), P[t[2]].approx(), r.from.approx());
+      if (CGAL::is_certain(o)) return CGAL::get_certain(o);
+    }
+    const Tri &u = A.sources[static_cast<std::size_t>(A.source[f])],
+              &w = A.sources[static_cast<std::size_t>(A.source[static_cast<std::size_t>(r.face)])];
+    bool same = true;
+    for (int k = 0; k < 3 && same; ++k) same = CGAL::orientation(P[u[0]], P[u[1]], P[u[2]], P[w[k]]) == CGAL::COPLANAR;
+    return same ? CGAL::COPLANAR : CGAL::orientation(P[t[0]], P[t[1]], P[t[2]], r.from);
+  };
   // Each ray meets the faces whose widened boxes its segment meets (its origin's interval box
   // adds its own width), in parallel over the rays.
   auto meet = [&](Ray& r, std::size_t f) {
@@ -1970,7 +1996,7 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
     }
     const Tri& t = T[f];
     const EPoint &a = P[t[0]], &b = P[t[1]], &c = P[t[2]];
-    const auto s_from = CGAL::orientation(a, b, c, r.from);
+    const auto s_from = originSide(t, f, r);
     if (s_from == CGAL::COPLANAR) {
       // The origin lies in this face's plane: an overlapping copy when inside the face.
       const auto o1 = CGAL::coplanar_orientation(a, b, c, r.from);
