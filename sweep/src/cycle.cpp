@@ -74,6 +74,9 @@ constexpr double kMergeParameter = 1e-12;
 // A point whose speed is at most this fraction of the body's largest speed is held fixed over
 // the span (one vertex for all times): it moves by at most 1e-12 V e^|M| in truth, far below ε.
 constexpr double kFixedSpeed = 1e-12;
+// A fixed point inside a boundary segment cuts it when it lies more than this (in the segment's
+// parameter) from the segment's ends and replaces the segment's own cuts as close to it.
+constexpr double kFixedCutMargin = 1e-9;
 // A boundary segment whose positions at every grid row lie within this fraction of ε of the line
 // through its τ = 0 ends sweeps no area (see "Strips that slide along themselves" below); the
 // snap moves vertices by at most 1e-9 ε.
@@ -442,8 +445,27 @@ SpanPlanPtr planSpan(const Body& body, const Span3& span, const Affine3* end_giv
       twist = std::max(twist, cellTwist(grid.tau[k + 1] - grid.tau[k], mu, FlowNorms::of(M, M * e)));
     }
     const int m = piecesFor(twist, eps, max_steps, where + ", boundary segment " + std::to_string(j));
-    for (int i = 1; i < m; ++i) {
-      const double t = static_cast<double>(i) / m;
+    std::vector<double> cuts;
+    for (int i = 1; i < m; ++i) cuts.push_back(static_cast<double>(i) / m);
+    // A point of the segment that the motion keeps fixed (where its fixed axis or plane crosses
+    // the segment: the speed is affine along it) cuts it too, and is held fixed below, so that
+    // every row of the strip passes through that one vertex. Rows that only pass within an ulp
+    // of it crossed each other there in thousands of faces 1e-15 wide (the tetrahedron turning
+    // 100 degrees about an axis through itself, parallel to x), which the labels' rays then
+    // tested in rationals for minutes.
+    if (!gs.stationary) {
+      const Vec vp = M * start(pt[s.p]) + u, dv = M * start(pt[s.q]) + u - vp;
+      if (dv.squaredNorm() > 0) {
+        const double t0 = -vp.dot(dv) / dv.squaredNorm();
+        if (t0 > kFixedCutMargin && t0 < 1 - kFixedCutMargin && (vp + t0 * dv).norm() <= kFixedSpeed * gs.speed) {
+          cuts.erase(std::remove_if(cuts.begin(), cuts.end(),
+                                    [t0](double t) { return std::abs(t - t0) <= kFixedCutMargin; }),
+                     cuts.end());
+          cuts.insert(std::upper_bound(cuts.begin(), cuts.end(), t0), t0);
+        }
+      }
+    }
+    for (const double t : cuts) {
       const Vec x = (1 - t) * pt[s.p] + t * pt[s.q];
       Where w;
       const double r = s.rp + t * (s.rq - s.rp);
