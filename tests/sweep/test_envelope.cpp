@@ -401,9 +401,10 @@ TEST(Envelope, FixedAxisThroughTheBody) {
 }
 
 // An affine span that keeps z (a sweep fuzz input; tests/sweep/fixtures/tetra_shear_keeps_z.json):
-// the tetrahedron's edges at z = +-1 slide in their planes while x and y shear, about a fixed
-// line parallel to z through the body. Until stop 61 its envelope was not closed (168 crossing
-// pairs and 26 shells at 2e-2); it passes since the chords are cut at the fixed points.
+// the tetrahedron's edges at z = +-1 slide in their planes while x and y shear, and the span
+// keeps the line (8z, (1 + z) / 46, z) through the body fixed. Until stop 61 its envelope was not
+// closed (168 crossing pairs and 26 shells at 2e-2); it passes since the chords are cut at the
+// fixed points.
 TEST(Envelope, AffineSpanKeepingAPlane) {
   const steady::io::TriangleMesh t = steady::io::readMesh(STEADY_DATA_DIR "/meshes/tetrahedron.off");
   const Mesh m{t.vertices, t.faces};
