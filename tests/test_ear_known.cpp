@@ -386,3 +386,19 @@ TEST(EarKnown3D, NegativeJordanBlockHasNoSam) {
   EXPECT_EQ(ex.reason, steady::ErrorCode::NoRealLog);
   EXPECT_NE(ex.message.find("Jordan"), std::string::npos) << ex.message;
 }
+
+// Span::end() is the end key pose exactly as given, where relative() * start() carries the
+// inverse's rounding: after a pose that keeps z, the identity came back with a z row of
+// (0, 0, 1 - 1.1e-16), which lifted a sweep's end cap off the plane its faces slide in (a sweep
+// fuzz input, tests/fuzz/corpus/sweep/plate_keeps_z_and_back).
+TEST(EarKnown3D, SpanEndIsTheKeyPoseAsGiven) {
+  Eigen::Matrix3d L;
+  L << -0.0625, -6.125, -1, 0.5, 0, 0, 0, 0, 1;
+  const Affine3 P(L, Eigen::Vector3d(3.0625, 0, 0));
+  const steady::Span3 back = steady::Span3::between(P, Affine3());
+  EXPECT_EQ(back.end().matrix(), Affine3().matrix());
+  EXPECT_NE((back.relative() * back.start()).matrix(), Affine3().matrix())
+      << "the product is exact here now: this test no longer shows why end() exists";
+  EXPECT_EQ(steady::Span3::between(Affine3(), P).end().matrix(), P.matrix());
+  EXPECT_EQ(steady::Span3(P).end().matrix(), P.matrix());
+}

@@ -733,7 +733,7 @@ AffineLog<D> log(const Affine<D>& A, const EarOptions& options) {
 }
 
 template <int D>
-Span<D>::Span(const Affine<D>& A, const EarOptions& options) : relative_(A) {
+Span<D>::Span(const Affine<D>& A, const EarOptions& options) : relative_(A), end_(A) {
   Failure f;
   if (!computeLog<D>(A, options, log_, &spec_, f)) raise(f);
 }
@@ -742,6 +742,7 @@ template <int D>
 Span<D> Span<D>::between(const Affine<D>& B, const Affine<D>& C, const EarOptions& options) {
   Span s(C * B.inverse(), options);
   s.start_ = B;
+  s.end_ = C;
   return s;
 }
 

@@ -277,8 +277,10 @@ SpanPlanPtr planSpan(const Body& body, const Span3& span, const Affine3* end_giv
   // τ = 1 carries the log's rounding, and the body at the end is the one the caller posed. A
   // half turn about the z axis through a face of the body (the bracket along screw.json, 1e-17
   // of input noise on the axis) left the end cap 3e-17 off the start cap's plane: the exact
-  // trimming kept the void sliver between them, and rounding made its walls cross.
-  S.end_pose = end_given ? *end_given : span.relative() * span.start();
+  // trimming kept the void sliver between them, and rounding made its walls cross. Span3::end()
+  // is the key pose itself, not relative() start(): after a pose that keeps z, that product
+  // gave the final identity a z row of (0, 0, 1 - 1.1e-16) (a sweep fuzz input, the thin plate).
+  S.end_pose = end_given ? *end_given : span.end();
   if (!S.end_pose.isFinite())
     throw Error(ErrorCode::NonFinite, "sweptEnvelope: the end pose of span " + std::to_string(span_index) +
                                           " is not finite");
@@ -334,7 +336,9 @@ SpanPlanPtr planSpan(const Body& body, const Span3& span, const Affine3* end_giv
         zero[e][1] = zero[e][0];
         continue;
       }
-      const int id = addPoint((1 - root[i]) * P[a] + root[i] * P[b], Where{a, b, -1, root[i], 0.0, static_cast<int>(e)});
+      // (as a + r (b - a): exact in a coordinate the edge's ends share, such as the height of
+      // a face that slides in its plane; (1 - r) a + r b can miss it by an ulp)
+      const int id = addPoint(P[a] + root[i] * (P[b] - P[a]), Where{a, b, -1, root[i], 0.0, static_cast<int>(e)});
       zero[e][i] = id;
       on_edge[e].push_back({root[i], id});
     }
@@ -466,7 +470,7 @@ SpanPlanPtr planSpan(const Body& body, const Span3& span, const Affine3* end_giv
       }
     }
     for (const double t : cuts) {
-      const Vec x = (1 - t) * pt[s.p] + t * pt[s.q];
+      const Vec x = pt[s.p] + t * (pt[s.q] - pt[s.p]);  // (see the edges' zeros above)
       Where w;
       const double r = s.rp + t * (s.rq - s.rp);
       if (s.edge >= 0) {

@@ -58,9 +58,10 @@ struct SpanPlanDelete {
 using SpanPlanPtr = std::unique_ptr<SpanPlan, SpanPlanDelete>;
 
 // Plans the cycle of `body` on `span` with tessellation tolerance eps (tessellation.hpp).
-// `end_pose` may be null: then the span's end key pose `A B` (Span3::relative() times start())
-// is used, not its exponential at τ = 1, which carries the log's rounding (a half turn about z
-// as exp(pi J) has sin(pi) = 1.2e-16 off the axis). A polySAM passes the next span's start, so
+// `end_pose` may be null: then the span's end key pose as given (Span3::end()) is used, not
+// its exponential at τ = 1, which carries the log's rounding (a half turn about z as exp(pi J)
+// has sin(pi) = 1.2e-16 off the axis), nor the product relative() start(), which carries the
+// inverse's (a z row of (0, 0, 1 - 1.1e-16) for the identity after a pose keeping z). A polySAM passes the next span's start, so
 // that joints coincide exactly. Throws steady::Error when the grids need more than max_steps.
 // The plan keeps a pointer to `body`, which must outlive it.
 SpanPlanPtr planSpan(const Body& body, const Span3& span, const Affine3* end_pose, double eps,

@@ -838,7 +838,9 @@ SampleOnScrew cgalSampleOnTheBenchmarkScrew(const std::string& name) {
 // traced before from the mouth memory (MouthMemory::filled) instead of searching again, which
 // must leave the envelope as it was: the face count, vertex count and volume below were recorded
 // with the code before that reuse (c09830a), and recorded again when the caps at the polySAM's
-// joints were merged (cycle.cpp; the volume moved by 5.4e-10 of itself). A reused filling that
+// joints were merged (cycle.cpp; the volume moved by 5.4e-10 of itself), and again in stop 61,
+// when the last span ended at its key pose as given and the points on edges were placed as
+// a + r (b - a) (the same counts; the volume moved by 3.4e-9 of itself). A reused filling that
 // differed would not show elsewhere: the rounds' own checks refill a bad one, and the other
 // envelope tests all pass with the reused fillings reversed, while this envelope's volume then
 // moves by 5.5e-13 of itself (the CLI's copy of the sphere, at its own size, gets 42 faces
@@ -856,7 +858,7 @@ TEST(Envelope, SphereOnTheGrowingScrewIsTheRecordedEnvelope) {
   EXPECT_EQ(env.pocket_mouths_filled, 1193u);
   EXPECT_EQ(env.triangles.size(), 39618u);
   EXPECT_EQ(env.vertices.size(), 19361u);
-  EXPECT_NEAR(env.volume, 3.3809559152093764, 1e-14 * 3.3809559152093764);
+  EXPECT_NEAR(env.volume, 3.3809559036863206, 1e-14 * 3.3809559036863206);
 #endif
 }
 
@@ -1393,7 +1395,9 @@ TEST(Envelope, PatchesTouchingAFailedMouthAtAPointAreLeftOutOnAScrew) {
 //   twenty-ninth round);
 // - CGAL's sphere on a screw span (case 48405, tolerance 2e-3): 64 buried patches kept, 18 of
 //   whose vertices lay 1.0 to 1.25 eps inside (bound 1.25 eps; the oracle found no outside
-//   point within T for them), which only a re-sweep at eps/4 cleared before.
+//   point within T for them), which only a re-sweep at eps/4 cleared before. (10 were moved
+//   until stop 61, 6 since: the span ends at its key pose as given and points on edges are
+//   placed as a + r (b - a), which moved the envelope by rounding.)
 void expectKeptWallVerticesMoved(const Mesh& m, const Motion3& motion, double rel, const V& center,
                                  std::size_t at_least, const char* name, std::uint64_t seed) {
   const Envelope env = sweep(m, motion, rel, 0);
@@ -1433,7 +1437,7 @@ TEST(Envelope, UncertifiedKeptWallVerticesAreMovedOntoTheBoundary) {
       -0.13501341746459219, 0.97524920469692999, -0.17510101610937956, 0.040951683510945913,  //
       -0.89043752281757793, -0.19693731399598308, -0.41028857200090629, 0.93911661917451283;
   expectKeptWallVerticesMoved(cgalSampleMesh("sphere.off"), single(Affine3::fromMatrix(b), Affine3::fromMatrix(c)),
-                              2e-3, V(-0.055, -0.513, 0.571), 10, "CGAL sphere screw, 18 kept-wall vertices", 48405);
+                              2e-3, V(-0.055, -0.513, 0.571), 5, "CGAL sphere screw, 18 kept-wall vertices", 48405);
 #endif
 }
 

@@ -212,10 +212,15 @@ class Span {
   const Affine<D>& start() const { return start_; }
   /// The relative motion `A` (the pose at t = 1 is `A B`).
   const Affine<D>& relative() const { return relative_; }
+  /// The pose at t = 1 as given: `C` for a span built by between(B, C), `A` for a span built
+  /// from `A` alone. (The product `relative() * start()` equals it up to rounding only: for
+  /// the identity after a pose that keeps z, its z row came out as (0, 0, 1 - 1.1e-16).)
+  const Affine<D>& end() const { return end_; }
 
  private:
   Span() = default;
   Affine<D> relative_;
+  Affine<D> end_;
   Affine<D> start_;
   AffineLog<D> log_;
   detail::Spectral<D> spec_;
