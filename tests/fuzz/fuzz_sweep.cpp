@@ -14,6 +14,9 @@
 //
 // Checks, beyond "a result or a steady::Error":
 // - the envelope has finite vertices and indices in range;
+// - with STEADY_FUZZ_STRICT set in the environment (the replay test sets it), the envelope
+//   passes its own check (passedCheck); otherwise a failed check, which the library reports,
+//   is accepted;
 // - when the envelope passes its own check (passedCheck: closed, manifold, one orientation, no
 //   self-intersection, positive volume), an independent test written here: every body vertex
 //   posed at 17 times (the key times among them) has a winding number of one with respect to
@@ -170,7 +173,19 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   for (const Tri& f : env.triangles)
     for (const int v : f)
       FUZZ_CHECK(v >= 0 && static_cast<std::size_t>(v) < env.vertices.size(), "an envelope index is out of range");
-  if (!steady::sweep::passedCheck(env)) return 0;
+  if (!steady::sweep::passedCheck(env)) {
+    // A failed check is the library's own report, an accepted answer by default; with
+    // STEADY_FUZZ_STRICT set (the replay test sets it) it is a finding.
+    static const bool strict = std::getenv("STEADY_FUZZ_STRICT") != nullptr;
+    if (strict) {
+      const steady::sweep::MeshCheck& c = env.check;
+      std::fprintf(stderr, "envelope check: closed %d, manifold %d, oriented %d, %ld crossing pairs, %d shells\n",
+                   static_cast<int>(c.closed), static_cast<int>(c.manifold), static_cast<int>(c.oriented),
+                   c.self_intersections, c.shells);
+      FUZZ_CHECK(false, "the envelope failed its own check (STEADY_FUZZ_STRICT)");
+    }
+    return 0;
+  }
 
   const double eps = env.tolerance;
   for (int s = 0; s <= 16; ++s) {
