@@ -894,6 +894,7 @@ SweepOutput sweepCommand(const SweepRequest& request) {
   report["mouth_rim_faces_removed"] = envelope.mouth_rim_faces_removed;
   report["buried_dents_filled"] = envelope.buried_dents_filled;
   report["rounding_merged"] = envelope.rounding_merged;
+  report["rounding_slivers_flipped"] = envelope.rounding_slivers_flipped;
   report["pinched_vertices_split"] = envelope.pinched_vertices_split;
   report["pinches_touching"] = envelope.pinches_touching;
   report["check"] = checkJson(envelope.check, request.check);
