@@ -295,15 +295,15 @@ struct Envelope {
   /// diagonal of another (distinct exact points a few ulps apart, whose rounded slivers would
   /// cross); the triangles they collapse are dropped, which keeps the surface closed. When the
   /// envelope so merged fails its check, it is finished again without merging, and that one is
-  /// returned (with 0 here) if it passes: merging itself folded faces in the sliding planes of
-  /// planar motions.
+  /// returned (with 0 here) if it passes (a fallback: merging once folded faces in the sliding
+  /// planes of planar motions, whose cause is now fixed elsewhere).
   std::size_t rounding_merged = 0;
   /// When the output check found self-intersecting pairs: slivers left by rounding that were
   /// flipped away (triangles whose corner lay on their opposite side within 1e-13 times the
   /// envelope's box diagonal, so that, rounded, they overlapped their neighbour; the side is
   /// flipped to the diagonal of the two triangles, and no vertex moves), kept because the check
-  /// then found fewer pairs. 0 for every envelope whose check passed at once. Planar motions of
-  /// prisms, whose top and bottom faces slide in their planes, made such slivers.
+  /// then found fewer pairs. 0 for every envelope whose check passed at once. (An L-shaped
+  /// prism along a turn whose pose has denormal entries needs 10 such flips.)
   std::size_t rounding_slivers_flipped = 0;
   /// Vertices where the envelope touches itself (several fans of faces), given one copy per
   /// extra fan so that the mesh is a 2-manifold. The copies are then moved apart, each towards
