@@ -885,7 +885,7 @@ void appendSpanCycle(Cycle& out, const SpanPlan* prev, const SpanPlan& plan, con
     }
     // Closed loops of the boundary (each vertex has as many edges in as out).
     const int A = at0(F[f][0]), B = at0(F[f][1]), C = at0(F[f][2]);
-    const Vec& pa = out.vertices[A];
+    const Vec pa = out.vertices[A];  // (a copy: combination() below grows out.vertices)
     const Vec u1 = out.vertices[B] - pa, u2 = out.vertices[C] - pa;
     const double g11 = u1.dot(u1), g12 = u1.dot(u2), g22 = u2.dot(u2), det = g11 * g22 - g12 * g12;
     std::vector<char> used(edges.size(), 0);
