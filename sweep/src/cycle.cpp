@@ -266,7 +266,7 @@ std::array<double, 3> barycentric(const SpanPlan& plan, int q, int f) {
 }  // namespace
 
 SpanPlanPtr planSpan(const Body& body, const Span3& span, const Affine3* end_given, double eps,
-                     const GrazingOptions& grazing, int max_steps, int span_index) {
+                     const GrazingOptions& grazing, int max_steps, int span_index, EdgeZeros* seen) {
   SpanPlanPtr plan(new SpanPlan);
   SpanPlan& S = *plan;
   S.body = &body;
@@ -329,6 +329,14 @@ SpanPlanPtr planSpan(const Body& body, const Span3& span, const Affine3* end_giv
       if (part[f] != kSplit) continue;
       const double ga = g(f, a), gb = g(f, b);
       if (sgn(ga) * sgn(gb) < 0) root[i] = ga / (ga - gb);
+      if (root[i] < 0 || !seen) continue;
+      std::vector<double>& known = (*seen)[e];
+      const auto same = std::find_if(known.begin(), known.end(),
+                                     [&](double r) { return std::abs(r - root[i]) <= kMergeParameter; });
+      if (same != known.end())
+        root[i] = *same;
+      else
+        known.push_back(root[i]);
     }
     for (int i = 0; i < 2; ++i) {
       if (root[i] < 0) continue;
@@ -449,6 +457,13 @@ SpanPlanPtr planSpan(const Body& body, const Span3& span, const Affine3* end_giv
       twist = std::max(twist, cellTwist(grid.tau[k + 1] - grid.tau[k], mu, FlowNorms::of(M, M * e)));
     }
     const int m = piecesFor(twist, eps, max_steps, where + ", boundary segment " + std::to_string(j));
+    // The cuts run from the segment's lesser end (body coordinates, lexicographically) to its
+    // greater, whichever way the segment runs: two spans that cut the same segment alike, such as
+    // a motion's first span and its last when the motion returns along itself (there the
+    // segments run opposite ways), then make the same points, not points an ulp apart.
+    const bool flip = std::lexicographical_compare(pt[s.q].data(), pt[s.q].data() + 3, pt[s.p].data(), pt[s.p].data() + 3);
+    const int c0 = flip ? s.q : s.p, c1 = flip ? s.p : s.q;
+    const double r0 = flip ? s.rq : s.rp, r1 = flip ? s.rp : s.rq;
     std::vector<double> cuts;
     for (int i = 1; i < m; ++i) cuts.push_back(static_cast<double>(i) / m);
     // A point of the segment that the motion keeps fixed (where its fixed axis or plane crosses
@@ -458,7 +473,7 @@ SpanPlanPtr planSpan(const Body& body, const Span3& span, const Affine3* end_giv
     // 100 degrees about an axis through itself, parallel to x), which the labels' rays then
     // tested in rationals for minutes.
     if (!gs.stationary) {
-      const Vec vp = M * start(pt[s.p]) + u, dv = M * start(pt[s.q]) + u - vp;
+      const Vec vp = M * start(pt[c0]) + u, dv = M * start(pt[c1]) + u - vp;
       if (dv.squaredNorm() > 0) {
         const double t0 = -vp.dot(dv) / dv.squaredNorm();
         if (t0 > kFixedCutMargin && t0 < 1 - kFixedCutMargin && (vp + t0 * dv).norm() <= kFixedSpeed * gs.speed) {
@@ -470,9 +485,9 @@ SpanPlanPtr planSpan(const Body& body, const Span3& span, const Affine3* end_giv
       }
     }
     for (const double t : cuts) {
-      const Vec x = pt[s.p] + t * (pt[s.q] - pt[s.p]);  // (see the edges' zeros above)
+      const Vec x = pt[c0] + t * (pt[c1] - pt[c0]);  // (see the edges' zeros above)
       Where w;
-      const double r = s.rp + t * (s.rq - s.rp);
+      const double r = r0 + t * (r1 - r0);
       if (s.edge >= 0) {
         w = Where{E[s.edge].vertices[0], E[s.edge].vertices[1], -1, r, 0.0, s.edge};
       } else {
@@ -480,12 +495,13 @@ SpanPlanPtr planSpan(const Body& body, const Span3& span, const Affine3* end_giv
         // where a polySAM's spans meet in the same chord ends, their points on it lie on one
         // line, and coincide when the spans cut it alike, instead of lying a few ulps off each
         // other's chord.)
-        w = Where{s.p, s.q, -1, t, 0.0, -1};
+        w = Where{c0, c1, -1, t, 0.0, -1};
       }
       const int id = addPoint(x, w);
       sub[j].push_back(id);
       if (s.edge >= 0) on_edge[s.edge].push_back({r, id});
     }
+    if (flip) std::reverse(sub[j].begin(), sub[j].end());  // (from p to q)
   }
   for (auto& list : on_edge)
     std::sort(list.begin(), list.end(), [](const EdgePoint& x, const EdgePoint& y) { return x.r < y.r; });

@@ -57,15 +57,26 @@ struct SpanPlanDelete {
 };
 using SpanPlanPtr = std::unique_ptr<SpanPlan, SpanPlanDelete>;
 
+// The zeros of g that a polySAM's spans found on the body's edges, per edge (edge parameters
+// from the edge's first vertex), filled by planSpan in the order the spans are planned.
+using EdgeZeros = std::vector<std::vector<double>>;
+
 // Plans the cycle of `body` on `span` with tessellation tolerance eps (tessellation.hpp).
 // `end_pose` may be null: then the span's end key pose as given (Span3::end()) is used, not
 // its exponential at τ = 1, which carries the log's rounding (a half turn about z as exp(pi J)
 // has sin(pi) = 1.2e-16 off the axis), nor the product relative() start(), which carries the
 // inverse's (a z row of (0, 0, 1 - 1.1e-16) for the identity after a pose keeping z). A polySAM passes the next span's start, so
-// that joints coincide exactly. Throws steady::Error when the grids need more than max_steps.
-// The plan keeps a pointer to `body`, which must outlive it.
+// that joints coincide exactly. `seen` (may be null): the zeros found by the spans planned
+// before; a zero within 1e-12 (in the edge parameter) of one of them takes its value, and the
+// others are added. So a face split by one grazing line in two spans, such as a motion's first
+// span and its last when the motion returns along itself (the velocities are negated, and the
+// zeros agree only to rounding), gets the same chord ends in both, and caps that meet in the
+// same posed face are cut along one exact line instead of two lines an ulp apart (a thin plate
+// stretched and brought back: 3,359 slivers at the start pose, 13 s in the labels' exact rays).
+// Throws steady::Error when the grids need more than max_steps. The plan keeps a pointer to
+// `body`, which must outlive it.
 SpanPlanPtr planSpan(const Body& body, const Span3& span, const Affine3* end_pose, double eps,
-                     const GrazingOptions& grazing, int max_steps, int span_index);
+                     const GrazingOptions& grazing, int max_steps, int span_index, EdgeZeros* seen = nullptr);
 
 // Appends the cycle of the planned span to `out`:
 //   Back (with the Grazing faces) at τ = 0, Front at τ = 1, and the strips swept by the

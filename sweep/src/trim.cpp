@@ -5703,11 +5703,12 @@ Envelope detail::sweptEnvelope(const Body& body, const Motion3& motion, const Sw
     detail::Cycle cycle;
     std::vector<std::size_t> span_end;
     // Each span's plan is used by its own cycle and by its neighbours' joints.
+    detail::EdgeZeros zeros(body.edges().size());
     auto plan = [&](std::size_t i) {
       // Joints use the next span's start pose, so that consecutive caps coincide exactly.
       const Affine3 end = i + 1 < n ? motion.span(i + 1).start() : Affine3();
       return detail::planSpan(body, motion.span(i), i + 1 < n ? &end : nullptr, eps_t[i], options.grazing,
-                              options.max_steps, static_cast<int>(i));
+                              options.max_steps, static_cast<int>(i), &zeros);
     };
     detail::SpanPlanPtr before, here = plan(0), after;
     for (std::size_t i = 0; i < n; ++i) {

@@ -420,6 +420,54 @@ TEST(Envelope, AffineSpanKeepingAPlane) {
   }
 }
 
+// A thin plate stretched by an affine pose and brought back along the same path (a sweep fuzz
+// input, tests/fuzz/corpus/sweep/plate_stretch_label_rays): the second span's velocities are the
+// first's negated, so both spans split the bottom face along one grazing line, and the caps they
+// leave there at the start pose coincide. Each span used to compute the line's ends from its
+// own log, an ulp apart, and to cut its chords and edge pieces from its own end (the segments run
+// opposite ways in the two spans): the two caps crossed in thousands of slivers, which took the
+// labels' exact rays 13 s on the fuzz input. Now the spans share their zeros (planSpan's `seen`)
+// and cut every segment from its lesser end, so both make the same points. At 5e-3 the sweep also
+// read a vertex through a reference that adding vertices had left dangling (the joint's caps
+// between two chords of one face, in more than one loop) and crashed.
+// The envelope's genus is not checked: the second span retraces the first's sheets, and at some
+// tolerances (1e-2 here, and with the code before these changes at others) the output keeps a
+// handle among them that the geometric checks cannot tell from the truth (a sphere).
+TEST(Envelope, StretchedAndBroughtBackAlongTheSamePath) {
+  const Mesh m = box(V(0, 0, 0), V(1, 1, 0.02));
+  Eigen::Matrix3d L;
+  L << -1.0 / 16, -1, 3, 41.0 / 8, 0, 0.5, 0, 41.0 / 8, 0;
+  const Affine3 P(L, V::Zero());
+  const Motion3 motion = Motion3::polySam(std::vector<Affine3>{Affine3(), P, Affine3()});
+  {  // the cycle: its points in the bottom face's plane (both spans' caps) are shared exactly
+    namespace d = steady::sweep::detail;
+    const steady::sweep::Body body(m.v, m.f);
+    const double eps_t = epsOf(m, 5e-3) / 2;
+    d::EdgeZeros zeros(body.edges().size());
+    const Affine3 joint = motion.span(1).start();
+    const auto first = d::planSpan(body, motion.span(0), &joint, eps_t, steady::sweep::GrazingOptions{}, 1 << 16, 0, &zeros);
+    const auto last = d::planSpan(body, motion.span(1), nullptr, eps_t, steady::sweep::GrazingOptions{}, 1 << 16, 1, &zeros);
+    d::Cycle cycle;
+    d::appendSpanCycle(cycle, nullptr, *first, last.get());
+    d::appendSpanCycle(cycle, first.get(), *last, nullptr);
+    std::vector<V> bottom;  // off the plate's corners
+    for (const V& x : cycle.vertices)
+      if (std::abs(x.z()) <= 1e-9 && std::min(std::abs(x.x() - 0.5), std::abs(x.y() - 0.5)) < 0.5 - 1e-9) bottom.push_back(x);
+    std::size_t near_misses = 0;
+    for (std::size_t i = 0; i < bottom.size(); ++i)
+      for (std::size_t j = i + 1; j < bottom.size(); ++j)
+        near_misses += bottom[i] != bottom[j] && (bottom[i] - bottom[j]).norm() <= 1e-9;
+    EXPECT_GT(bottom.size(), 0u) << "both spans split the bottom face";
+    EXPECT_EQ(near_misses, 0u) << "two cycle points in the bottom face within 1e-9 of each other, not equal";
+  }
+  const Envelope env = sweep(m, motion, 5e-3);
+  expectOneEmbeddedShell(env);
+  std::mt19937_64 rng(51);
+  CheckOptions co;
+  co.expected_euler = 99;
+  checkEnvelope(m, motion, env, epsOf(m, 5e-3), rng, "thin plate stretched and brought back", co);
+}
+
 // The end pose of one span of the bracket's screw about the z axis, which lies in its upright's
 // back face: a quarter turn while rising 2.5 and scaling by 1.2.
 Affine3 bracketQuarterTurn() {
