@@ -144,13 +144,21 @@ class CleanPoses {
   }
   Affine3 operator()(double tau) const {
     Eigen::Matrix4d E = (tau * X_).exp();
-    // A zero row i of the generator keeps coordinate i (row i of its exponential is e_i), and a
-    // zero column j < 3 keeps direction e_j (column j is e_j). Both are set exactly: Padé's
-    // solve can miss them by an ulp (a turn of 30 degrees about z gave E_22 = 1 - 1.1e-16 at
-    // τ = 0.993, which lowered the top face's strip vertices off its plane by 3e-17).
+    // A row i of the generator that is λ e_i (zero off its diagonal) scales coordinate i alone:
+    // row i of its exponential is e^(λτ) e_i, so the planes x_i = 0 stay put. A column j < 3
+    // that is λ e_j keeps direction e_j: column j is e^(λτ) e_j. Both are set exactly: Padé's
+    // solve can miss the zeros and ones by an ulp (a turn of 30 degrees about z gave E_22 =
+    // 1 - 1.1e-16 at τ = 0.993, which lowered the top face's strip vertices off its plane by
+    // 3e-17; a thin plate scaled by 3/2 along x, its face x = 0 sliding in its plane, got strip
+    // vertices at x = 1e-15, and its envelope came out open).
     for (int i = 0; i < 3; ++i) {
-      if (X_.row(i).isZero(0.0)) E.row(i) = Eigen::Matrix4d::Identity().row(i);
-      if (X_.col(i).isZero(0.0)) E.col(i) = Eigen::Matrix4d::Identity().col(i);
+      const double lambda = X_(i, i);
+      Eigen::Matrix<double, 1, 4> row = X_.row(i);
+      row(i) = 0;
+      if (row.isZero(0.0)) E.row(i) = std::exp(lambda * tau) * Eigen::Matrix4d::Identity().row(i);
+      Eigen::Vector4d col = X_.col(i);
+      col(i) = 0;
+      if (col.isZero(0.0)) E.col(i) = std::exp(lambda * tau) * Eigen::Matrix4d::Identity().col(i);
     }
     return Affine3(E.topLeftCorner<3, 3>(), E.topRightCorner<3, 1>()) * start_;
   }

@@ -363,6 +363,32 @@ TEST(Envelope, TurnsOfTheBoxInItsPlane) {
   }
 }
 
+// A thin plate along an affine span that scales x by 3/2 and moves y and z (a sweep fuzz input,
+// tests/fuzz/corpus/sweep/plate_shear_open_envelope): the plane x = 0 is invariant, and the
+// plate's face there slides in it. Padé's exponential left the interior rows' first row at
+// (1.5^τ, ~1e-17, ~1e-17 | ~1e-16), not (1.5^τ, 0, 0 | 0): strip vertices at x = 1e-15, and at
+// 2e-2 an envelope that was open and not manifold, re-swept twice in vain. A generator row that
+// is zero off its diagonal now gives the exponential's row exactly (cycle.cpp, CleanPoses).
+TEST(Envelope, PlateScaledAwayFromAnInvariantPlane) {
+  const Mesh m = box(V(0, 0, 0), V(1, 1, 0.02));
+  Eigen::Matrix3d L;
+  L << 1.5, 0, 0, -5.0 / 16, -1.0 / 16, -1, 39.0 / 16, 0.5, 0;
+  const Motion3 motion = single(Affine3(), Affine3(L, V(0, 49.0 / 16, 1)));
+  for (const double relative : {2e-2, 1e-2}) {
+    SCOPED_TRACE(relative);
+    const Envelope env = sweep(m, motion, relative);
+    EXPECT_EQ(env.resweeps, 0u);
+    expectOneEmbeddedShell(env);
+    std::size_t near_plane = 0, off_plane = 0;
+    for (const V& x : env.vertices)
+      if (std::abs(x.x()) < 1e-12) ++near_plane, off_plane += x.x() != 0.0;
+    EXPECT_GT(near_plane, 20u);
+    EXPECT_EQ(off_plane, 0u) << "vertices within 1e-12 of the invariant plane x = 0 but not on it";
+    std::mt19937_64 rng(52);
+    checkEnvelope(m, motion, env, epsOf(m, relative), rng, "plate scaled away from x = 0", CheckOptions{});
+  }
+}
+
 // The bundled tetrahedron turning 100 degrees about an axis parallel to x that passes through it
 // (moving (0, 1, 0.7) while it turns). The motion keeps that axis fixed, and every grazing chord
 // of a face the axis pierces passes through the pierce point, as every row of the chord's strip
@@ -888,7 +914,9 @@ SampleOnScrew cgalSampleOnTheBenchmarkScrew(const std::string& name) {
 // with the code before that reuse (c09830a), and recorded again when the caps at the polySAM's
 // joints were merged (cycle.cpp; the volume moved by 5.4e-10 of itself), and again in stop 61,
 // when the last span ended at its key pose as given and the points on edges were placed as
-// a + r (b - a) (the same counts; the volume moved by 3.4e-9 of itself). A reused filling that
+// a + r (b - a) (the same counts; the volume moved by 3.4e-9 of itself), and in stop 62, when a
+// generator column that is λ e_j gave the pose's column e^(λτ) e_j exactly (the screw's axis
+// column; the same counts, the volume moved by 4.0e-10 of itself). A reused filling that
 // differed would not show elsewhere: the rounds' own checks refill a bad one, and the other
 // envelope tests all pass with the reused fillings reversed, while this envelope's volume then
 // moves by 5.5e-13 of itself (the CLI's copy of the sphere, at its own size, gets 42 faces
@@ -906,7 +934,7 @@ TEST(Envelope, SphereOnTheGrowingScrewIsTheRecordedEnvelope) {
   EXPECT_EQ(env.pocket_mouths_filled, 1193u);
   EXPECT_EQ(env.triangles.size(), 39618u);
   EXPECT_EQ(env.vertices.size(), 19361u);
-  EXPECT_NEAR(env.volume, 3.3809559036863206, 1e-14 * 3.3809559036863206);
+  EXPECT_NEAR(env.volume, 3.380955902334104, 1e-14 * 3.380955902334104);
 #endif
 }
 
