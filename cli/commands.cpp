@@ -861,6 +861,7 @@ SweepOutput sweepCommand(const SweepRequest& request) {
   report["resweeps"] = envelope.resweeps;
   report["spans_refined"] = envelope.spans_refined;
   report["spans"] = envelope.spans;
+  report["spans_repeated"] = envelope.spans_repeated;
   report["cycle_triangles"] = envelope.cycle_triangles;
   report["intersecting_pairs"] = envelope.intersecting_pairs;
   report["arrangement_triangles"] = envelope.arrangement_triangles;

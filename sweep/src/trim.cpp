@@ -5690,6 +5690,54 @@ Envelope sweepWithRefinements(const SweepOptions& options, double eps, std::size
 
 }  // namespace
 
+// A span whose poses all lie within this fraction of ε (in the displacement of any body point)
+// of an earlier span's, run the same way or back, adds nothing the earlier span does not sweep
+// and is left out of the cycle (see repeatedSpans).
+constexpr double kRepeatShare = 1e-6;
+
+// Per span of `motion`: whether it repeats an earlier span that is kept, so that the swept
+// volume is the same without it to within kRepeatShare eps. Span k repeats span i the same way
+// when it starts where i starts with the same generator X = [M u], and back when it starts where
+// i ends with generator -X: its pose at τ is then i's at τ (or at 1 - τ). With the differences
+// dS of the starts (or of k's start and i's pose at 1) and dX of the generators, poses differ by
+// at most e^x (|dS| + |dX| (|S_k| + 1)) for x the larger of the two |X| (Frobenius norms of [L t] and
+// [M u]), and a body point p by that times |p| + 1. A reciprocating motion (to a pose and back,
+// again and again) keeps its first span only: the others would lay sheets on its sheets
+// that coincide to within rounding, which cost time and gave the exact trimming slivers (the
+// thin plate stretched and brought back; Envelope::spans_repeated).
+std::vector<char> repeatedSpans(const Body& body, const Motion3& motion, double eps) {
+  double reach = 0;  // max |p| + 1 over the body's vertices
+  for (const Vec& p : body.vertices()) reach = std::max(reach, p.norm());
+  reach += 1;
+  auto poseNorm = [](const Affine3& a) { return std::sqrt(a.linear().squaredNorm() + a.translation().squaredNorm()); };
+  auto generator = [](const Span3& s) {
+    Eigen::Matrix<double, 3, 4> X;
+    X << s.log().M, s.log().u;
+    return X;
+  };
+  const std::size_t n = motion.spanCount();
+  std::vector<char> repeated(n, 0);
+  for (std::size_t k = 1; k < n; ++k) {
+    const Span3& sk = motion.span(k);
+    const Eigen::Matrix<double, 3, 4> Xk = generator(sk);
+    const Affine3& Sk = sk.start();
+    for (std::size_t i = 0; i < k && !repeated[k]; ++i) {
+      if (repeated[i]) continue;
+      const Span3& si = motion.span(i);
+      const Eigen::Matrix<double, 3, 4> Xi = generator(si);
+      const double growth = std::exp(std::max(Xk.norm(), Xi.norm()));
+      for (const bool back : {false, true}) {
+        const Affine3 from = back ? si.pose(1.0) : si.start();
+        const Affine3 dS(Sk.linear() - from.linear(), Sk.translation() - from.translation());
+        const double dX = back ? (Xk + Xi).norm() : (Xk - Xi).norm();
+        const double bound = growth * (poseNorm(dS) + dX * (poseNorm(Sk) + 1)) * reach;
+        if (bound <= kRepeatShare * eps) repeated[k] = 1;
+      }
+    }
+  }
+  return repeated;
+}
+
 Envelope detail::sweptEnvelope(const Body& body, const Motion3& motion, const SweepOptions& options,
                                std::size_t doubt_cap) {
   const auto t_start = std::chrono::steady_clock::now();
@@ -5697,8 +5745,9 @@ Envelope detail::sweptEnvelope(const Body& body, const Motion3& motion, const Sw
   const double eps = resolveTolerance(body, options);
   const std::size_t n = motion.spanCount();
   const SweptVolume swept(body, motion);
-  return sweepWithRefinements(options, eps, n, swept, t_start, doubt_cap, [&](const std::vector<double>& eps_t,
-                                                                                std::size_t cap) {
+  const std::vector<char> repeated = repeatedSpans(body, motion, eps);
+  Envelope env = sweepWithRefinements(options, eps, n, swept, t_start, doubt_cap, [&](const std::vector<double>& eps_t,
+                                                                                      std::size_t cap) {
     const auto t_cycle = std::chrono::steady_clock::now();
     detail::Cycle cycle;
     std::vector<std::size_t> span_end;
@@ -5710,14 +5759,21 @@ Envelope detail::sweptEnvelope(const Body& body, const Motion3& motion, const Sw
       return detail::planSpan(body, motion.span(i), i + 1 < n ? &end : nullptr, eps_t[i], options.grazing,
                               options.max_steps, static_cast<int>(i), &zeros);
     };
-    detail::SpanPlanPtr before, here = plan(0), after;
+    // A repeated span adds no triangles; the kept spans on either side of it end and start
+    // their cycles as a motion's last and first spans do (each such piece of Q has winding
+    // number >= 0 everywhere and >= 1 on what its spans sweep, so the sum still counts >= 1
+    // exactly on the swept volume).
+    detail::SpanPlanPtr before, here, after;
     for (std::size_t i = 0; i < n; ++i) {
       if (options.progress) options.progress({"cycle", static_cast<double>(i) / static_cast<double>(n)});
-      after = i + 1 < n ? plan(i + 1) : nullptr;
-      detail::appendSpanCycle(cycle, before.get(), *here, after.get());
+      if (!repeated[i]) {
+        if (!here) here = plan(i);
+        after = i + 1 < n && !repeated[i + 1] ? plan(i + 1) : nullptr;
+        detail::appendSpanCycle(cycle, i > 0 && !repeated[i - 1] ? before.get() : nullptr, *here, after.get());
+        before = std::move(here);
+        here = std::move(after);
+      }
       span_end.push_back(cycle.triangles.size());
-      before = std::move(here);
-      here = std::move(after);
     }
     std::vector<Vec> sheet_vertices;
     std::vector<Tri> sheet_triangles;
@@ -5739,6 +5795,8 @@ Envelope detail::sweptEnvelope(const Body& body, const Motion3& motion, const Sw
     }
     return d;
   });
+  env.spans_repeated = static_cast<std::size_t>(std::count(repeated.begin(), repeated.end(), 1));
+  return env;
 }
 
 Envelope sweptEnvelope(const Body& body, const Motion3& motion, const SweepOptions& options) {

@@ -158,6 +158,9 @@ struct Envelope {
   std::size_t spans_refined = 0;
   MeshCheck check;           ///< properties of the output (self_intersections -1 if not checked)
   std::size_t spans = 0;                 ///< spans of the motion
+  /// Spans left out of the cycle because an earlier span sweeps the same poses, the same way or
+  /// back, to within 1e-6 ε (a motion to a pose and back, again and again, keeps its first stroke).
+  std::size_t spans_repeated = 0;
   std::size_t cycle_triangles = 0;       ///< triangles of the sweep cycle Q
   /// Edges of Q not matched by a reverse edge (by vertex index). 0 by construction; anything
   /// else means the winding numbers, hence the envelope, cannot be trusted.
