@@ -1951,9 +1951,16 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
     const double up = hi[k] - approx[t[0]][k], down = approx[t[0]][k] - lo[k];
     Vec d(tilt(rng), tilt(rng), tilt(rng));
     d[k] = up <= down ? 1.0 : -1.0;
-    r.back = (d[k] > 0) != (n[k] > 0);
     const Vec to = approx[t[0]] + (std::min(up, down) + 0.01 * size) * d;
     r.to = EPoint(to.x(), to.y(), to.z());
+    // Which side of the face the ray leaves to, exactly: the normal in doubles can point the
+    // wrong way on a sliver (a thin plate's strip near the point its span keeps fixed had faces
+    // 1e-21 wide, whose rays then counted the other side's winding number, and the labels
+    // propagated across edges disagreed with them). The origin lies in the face, so the side is
+    // the far end's; in the face's plane, the ray is degenerate.
+    const CGAL::Orientation side = CGAL::orientation(a, b, c, r.to);
+    r.degenerate = side == CGAL::COPLANAR;
+    r.back = side == CGAL::NEGATIVE;
     r.group = p;
     r.face = rep[p];
     return r;
