@@ -5697,6 +5697,8 @@ Envelope sweepWithRefinements(const SweepOptions& options, double eps, std::size
 
 }  // namespace
 
+namespace {
+
 // A span whose poses all lie within this fraction of ε (in the displacement of any body point)
 // of an earlier span's, run the same way or back, adds nothing the earlier span does not sweep
 // and is left out of the cycle (see repeatedSpans).
@@ -5707,11 +5709,11 @@ constexpr double kRepeatShare = 1e-6;
 // when it starts where i starts with the same generator X = [M u], and back when it starts where
 // i ends with generator -X: its pose at τ is then i's at τ (or at 1 - τ). With the differences
 // dS of the starts (or of k's start and i's pose at 1) and dX of the generators, poses differ by
-// at most e^x (|dS| + |dX| (|S_k| + 1)) for x the larger of the two |X| (Frobenius norms of [L t] and
-// [M u]), and a body point p by that times |p| + 1. A reciprocating motion (to a pose and back,
-// again and again) keeps its first span only: the others would lay sheets on its sheets
-// that coincide to within rounding, which cost time and gave the exact trimming slivers (the
-// thin plate stretched and brought back; Envelope::spans_repeated).
+// at most e^x (|dS| + |dX| (|S_k| + 1)) for x the larger of the two |X| (Frobenius norms of
+// [L t] and [M u]), and a body point p by that times |p| + 1. A reciprocating motion (to a pose
+// and back, again and again) keeps its first span only: the others would lay sheets on its
+// sheets that coincide to within rounding, which cost time and gave the exact trimming slivers
+// (the thin plate stretched and brought back; Envelope::spans_repeated).
 std::vector<char> repeatedSpans(const Body& body, const Motion3& motion, double eps) {
   double reach = 0;  // max |p| + 1 over the body's vertices
   for (const Vec& p : body.vertices()) reach = std::max(reach, p.norm());
@@ -5744,6 +5746,8 @@ std::vector<char> repeatedSpans(const Body& body, const Motion3& motion, double 
   }
   return repeated;
 }
+
+}  // namespace
 
 Envelope detail::sweptEnvelope(const Body& body, const Motion3& motion, const SweepOptions& options,
                                std::size_t doubt_cap) {
