@@ -487,7 +487,7 @@ TEST(Envelope, StretchedAndBroughtBackAlongTheSamePath) {
     EXPECT_GT(bottom.size(), 0u) << "both spans split the bottom face";
     EXPECT_EQ(near_misses, 0u) << "two cycle points in the bottom face within 1e-9 of each other, not equal";
   }
-  const Envelope single = sweep(m, steady_sweep_test::single(Affine3(), P), 5e-3);
+  const Envelope stroke = sweep(m, single(Affine3(), P), 5e-3);
   // Strokes: to P and back; to P, back and to P again; and a return that misses the start by
   // 0.05, which is not a repeat.
   struct Case {
@@ -502,8 +502,8 @@ TEST(Envelope, StretchedAndBroughtBackAlongTheSamePath) {
     EXPECT_EQ(env.spans_repeated, c.repeated);
     expectOneEmbeddedShell(env);
     if (c.repeated > 0) {  // the first stroke's envelope, triangle for triangle
-      EXPECT_EQ(env.triangles.size(), single.triangles.size());
-      EXPECT_NEAR(env.volume, single.volume, 1e-12 * single.volume);
+      EXPECT_EQ(env.triangles.size(), stroke.triangles.size());
+      EXPECT_NEAR(env.volume, stroke.volume, 1e-12 * stroke.volume);
     }
     std::mt19937_64 rng(51);
     checkEnvelope(m, strokes, env, epsOf(m, 5e-3), rng, "thin plate stretched and brought back", CheckOptions{});
