@@ -65,10 +65,10 @@ using EdgeZeros = std::vector<std::vector<double>>;
 // `end_pose` may be null: then the span's end key pose as given (Span3::end()) is used, not
 // its exponential at τ = 1, which carries the log's rounding (a half turn about z as exp(pi J)
 // has sin(pi) = 1.2e-16 off the axis), nor the product relative() start(), which carries the
-// inverse's (a z row of (0, 0, 1 - 1.1e-16) for the identity after a pose keeping z). A polySAM passes the next span's start, so
-// that joints coincide exactly. `seen` (may be null): the zeros found by the spans planned
-// before; a zero within 1e-12 (in the edge parameter) of one of them takes its value, and the
-// others are added. So a face split by one grazing line in two spans, such as a motion's first
+// inverse's (a z row of (0, 0, 1 - 1.1e-16) for the identity after a pose keeping z). A polySAM
+// passes the next span's start, so that joints coincide exactly. `seen` (may be null): the
+// zeros found by the spans planned before; a zero within 1e-12 (in the edge parameter) of one
+// of them takes its value, and the others are added. So a face split by one grazing line in two spans, such as a motion's first
 // span and its last when the motion returns along itself (the velocities are negated, and the
 // zeros agree only to rounding), gets the same chord ends in both, and caps that meet in the
 // same posed face are cut along one exact line instead of two lines an ulp apart (a thin plate

@@ -5718,29 +5718,21 @@ std::vector<char> repeatedSpans(const Body& body, const Motion3& motion, double 
   double reach = 0;  // max |p| + 1 over the body's vertices
   for (const Vec& p : body.vertices()) reach = std::max(reach, p.norm());
   reach += 1;
-  auto poseNorm = [](const Affine3& a) { return std::sqrt(a.linear().squaredNorm() + a.translation().squaredNorm()); };
-  auto generator = [](const Span3& s) {
-    Eigen::Matrix<double, 3, 4> X;
-    X << s.log().M, s.log().u;
-    return X;
-  };
   const std::size_t n = motion.spanCount();
   std::vector<char> repeated(n, 0);
   for (std::size_t k = 1; k < n; ++k) {
     const Span3& sk = motion.span(k);
-    const Eigen::Matrix<double, 3, 4> Xk = generator(sk);
-    const Affine3& Sk = sk.start();
+    const Eigen::Matrix4d Xk = sk.log().homogeneous();
+    const Affine3::Matrix Sk = sk.start().matrix();
     for (std::size_t i = 0; i < k && !repeated[k]; ++i) {
       if (repeated[i]) continue;
       const Span3& si = motion.span(i);
-      const Eigen::Matrix<double, 3, 4> Xi = generator(si);
+      const Eigen::Matrix4d Xi = si.log().homogeneous();
       const double growth = std::exp(std::max(Xk.norm(), Xi.norm()));
       for (const bool back : {false, true}) {
-        const Affine3 from = back ? si.pose(1.0) : si.start();
-        const Affine3 dS(Sk.linear() - from.linear(), Sk.translation() - from.translation());
+        const double dS = (Sk - (back ? si.pose(1.0) : si.start()).matrix()).norm();
         const double dX = back ? (Xk + Xi).norm() : (Xk - Xi).norm();
-        const double bound = growth * (poseNorm(dS) + dX * (poseNorm(Sk) + 1)) * reach;
-        if (bound <= kRepeatShare * eps) repeated[k] = 1;
+        if (growth * (dS + dX * (Sk.norm() + 1)) * reach <= kRepeatShare * eps) repeated[k] = 1;
       }
     }
   }
