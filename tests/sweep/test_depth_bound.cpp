@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <random>
 
@@ -244,6 +245,66 @@ TEST(DepthBound, NeverBelowTheTrueDistanceAndNotLoose) {
     ++checked;
   }
   EXPECT_EQ(checked, 2500);
+}
+
+// The antipodal pair (normals n and -n, no witness asked): when x + r n and x - r n get
+// different answers, x itself is never tested, and the bound is what the search without the
+// pair gives (a witness asked for turns the pair off).
+TEST(DepthBound, AntipodalNormalsSettleWithoutTestingThePoint) {
+  using steady::sweep::detail::SurfaceProbes;
+  const V n = V(1, 2, 2) / 3.0;
+  SurfaceProbes p;
+  p.normals = {n, -n};
+  V witness;
+  // A flat boundary 0.3 eps from x: the two probes straddle it, so two inside tests.
+  {
+    int calls = 0;
+    const V x = -0.3 * kEps * n;
+    const auto inside = [&](const V& q) { return ++calls, n.dot(q) <= 0; };
+    EXPECT_EQ(depthBound(x, kEps, kDelta, inside, p), kEps);
+    EXPECT_EQ(calls, 2);
+    EXPECT_EQ(depthBound(x, kEps, kDelta, inside, p, &witness), kEps);
+    EXPECT_EQ(calls, 2 + 2);  // x, then x + r n (outside): the first probe that differs
+  }
+  // x in a slab of the outside 0.2 eps thick, both probes inside: x is tested, once per probe.
+  {
+    int calls = 0;
+    const auto inside = [&](const V& q) { return ++calls, std::abs(n.dot(q)) > 0.1 * kEps; };
+    EXPECT_EQ(depthBound(V::Zero(), kEps, kDelta, inside, p), kEps);
+    EXPECT_EQ(calls, 3);  // the two probes (known), then x
+  }
+}
+
+// Seeded property: for random half-spaces, balls and slabs, and random points near their
+// boundaries, the bound with the antipodal pair equals the bound of the search without it.
+TEST(DepthBound, AntipodalPairGivesTheSameBound) {
+  using steady::sweep::detail::SurfaceProbes;
+  std::mt19937_64 rng(20261201);
+  std::normal_distribution<double> g;
+  std::uniform_real_distribution<double> offset(-3 * kEps, 3 * kEps), width(0.01 * kEps, 2 * kEps);
+  int differ = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    const V n = V(g(rng), g(rng), g(rng)).normalized();
+    const V m = trial % 2 ? n : V(V(g(rng), g(rng), g(rng)).normalized());  // (the probes' normal)
+    const V x = V(g(rng), g(rng), g(rng)).cross(n) + offset(rng) * n;
+    const double w = width(rng), r = std::abs(offset(rng)) + 0.05 * kEps;
+    std::function<bool(const V&)> inside;
+    switch (trial % 3) {
+      case 0: inside = [n](const V& q) { return n.dot(q) <= 0; }; break;
+      case 1: inside = [n, w](const V& q) { return std::abs(n.dot(q)) > w; }; break;
+      default: inside = [c = V(x + offset(rng) * n), r](const V& q) { return (q - c).norm() <= r; };
+    }
+    SurfaceProbes p;
+    p.normals = {m, -m};
+    V witness;
+    const double with_pair = depthBound(x, kEps, kDelta, inside, p);
+    const double without = depthBound(x, kEps, kDelta, inside, p, &witness);
+    ASSERT_EQ(with_pair, without) << "trial " << trial;
+    differ += inside(x + (kEps - 4 * kDelta) * m) != inside(x - (kEps - 4 * kDelta) * m);
+  }
+  // (both ways of the pair are met)
+  EXPECT_GT(differ, 300);
+  EXPECT_LT(differ, 2700);
 }
 
 }  // namespace
