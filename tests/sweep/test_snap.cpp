@@ -28,7 +28,8 @@ std::vector<int> oracleClasses(const std::vector<V3>& V, double delta) {
   std::iota(parent.begin(), parent.end(), 0);
   for (std::size_t i = 0; i < V.size(); ++i)
     for (std::size_t j = i + 1; j < V.size(); ++j)
-      if ((V[i] - V[j]).cwiseAbs().maxCoeff() <= delta) parent[root(parent, static_cast<int>(j))] = root(parent, static_cast<int>(i));
+      if ((V[i] - V[j]).cwiseAbs().maxCoeff() <= delta)
+        parent[root(parent, static_cast<int>(j))] = root(parent, static_cast<int>(i));
   std::vector<int> out(V.size());
   for (std::size_t i = 0; i < V.size(); ++i) out[i] = root(parent, static_cast<int>(i));
   return out;
