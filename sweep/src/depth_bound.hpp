@@ -93,20 +93,20 @@ inline const std::vector<Eigen::Vector3d>& cubeDirections() {
 template <class Inside>
 double depthBound(const Eigen::Vector3d& x, double eps, double delta, const Inside& inside,
                   const SurfaceProbes& surface = {}, Eigen::Vector3d* witness = nullptr) {
-  // An antipodal pair first: when the first two normals are n and -n and no witness is asked
-  // for, the probes x + r n and x - r n of the first claim are tested before x itself. Both lie
-  // within r of x, and so does the segment between them; when they get different answers that
-  // segment, its inside end moved by at most 2δ onto S, meets the boundary of S within r + 2δ
-  // of x, and the first claim is the bound without testing x (the same bound the search below
-  // returns then: it stops at the first of the two that differs from x). Otherwise their
-  // answers are kept for the search. (The fillings' probes, DepthTest::boundAt: about one inside
-  // test in six saved on the elephant screw.)
+  // A pair first: when no witness is asked for, the probes along the first two normals at the
+  // first claim's radius r are tested before x itself. Both lie within r of x, and so does the
+  // segment between them; when they get different answers that segment, its inside end moved
+  // by at most 2δ onto S, meets the boundary of S within r + 2δ of x, so the first claim is the
+  // bound without testing x, the same bound the search below returns (it starts with those two
+  // probes and stops at the first that differs from x). Otherwise their answers are kept for
+  // the search. It pays when the two point opposite ways, as DepthTest::boundAt's n and -n do:
+  // the fillings' probes took 59k inside tests instead of 83k on the elephant screw at 1e-3.
   std::array<Eigen::Vector3d, 2> known_at;
   std::array<bool, 2> known_in{};
   int known = 0;
   {
     const double claim = kDepthClaims[0] * eps, r = claim - 4 * delta;
-    if (!witness && r > 0 && surface.normals.size() >= 2 && surface.normals[1] == -surface.normals[0]) {
+    if (!witness && r > 0 && surface.normals.size() >= 2) {
       for (int k = 0; k < 2; ++k) {
         known_at[k] = x + r * surface.normals[k];
         known_in[k] = inside(known_at[k]);
@@ -115,6 +115,7 @@ double depthBound(const Eigen::Vector3d& x, double eps, double delta, const Insi
       if (known_in[0] != known_in[1]) return claim;
     }
   }
+  // (the search makes those two probes by the same expression, so as the same points)
   auto ask = [&](const Eigen::Vector3d& q) {
     for (int k = 0; k < known; ++k)
       if (q == known_at[k]) return known_in[k];
