@@ -339,6 +339,7 @@ Json featureJson(const std::array<int, 2>& f) {
 Json contactJson(const steady::Contact& c) {
   Json out = Json::object();
   out["t"] = outputNumber(c.t);
+  out["t_latest"] = outputNumber(c.t_latest);
   out["span"] = c.span;
   out["span_time"] = outputNumber(c.span_time);
   Json features = Json::object();

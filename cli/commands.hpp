@@ -68,7 +68,7 @@ struct CollideOutput {
 /// `steady collide`: the first contact (or, with `all`, every contact event in time order) of
 /// the moving mesh along its motion with the second mesh, static or moving along its own
 /// motion; without contact, the clearance (minimum distance over the motion) instead:
-///   {"contact": true, "t", "span", "span_time", "features": {"type", "moving", "static"},
+///   {"contact": true, "t", "t_latest", "span", "span_time", "features": {"type", "moving", "static"},
 ///    "point", "normal", "crossing", "certain"}
 ///   {"contact": false, "clearance", "clearance_bounds", "clearance_t", "closest": {"moving", "static"}}
 ///   {"contact", "contacts": [...]} (with all; plus the clearance members when there is none)

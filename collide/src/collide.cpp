@@ -184,19 +184,33 @@ double seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::d
 
 // Sorts contact events by time (contactBefore: ties by features, then by every other field, so
 // that the order, and which duplicate is kept, does not depend on the order they were found in)
-// and drops duplicates of one event (the same feature pair found through adjacent triangles,
-// within 1e-9 relative in time; the earliest is kept).
+// and drops duplicates of one event, the same feature pair found through adjacent triangles or
+// on neighbouring intervals: events within 1e-9 relative in time, or with the same crossing sign
+// and time brackets [t, t_latest] that meet (within that slack). The earliest is kept, its
+// bracket widened to cover the duplicate's. (Brackets solved on different intervals differ:
+// where rounding blurs the contact function over a band, as for nearly parallel edges, one solve
+// may report the band's start and another a narrow bracket 2e-9 later inside the band; the
+// window on t alone kept both, one crossing reported twice.)
 void mergeEvents(std::vector<Contact>& out) {
   std::sort(out.begin(), out.end(), contactBefore);
   std::vector<Contact> merged;
+  std::vector<double> reach;  // per kept event: the latest t_latest up to it
   for (const Contact& c : out) {
+    const double slack = 1e-9 * (1 + std::abs(c.t));
     bool dup = false;
-    for (auto it = merged.rbegin(); it != merged.rend() && c.t - it->t <= 1e-9 * (1 + std::abs(c.t)); ++it)
-      if (it->type == c.type && it->a == c.a && it->b == c.b) {
+    for (std::size_t k = merged.size(); k-- > 0 && !dup;) {
+      Contact& m = merged[k];
+      if (c.t - m.t > slack && c.t > reach[k] + slack) break;  // (nothing up to k reaches c)
+      if (m.type != c.type || m.a != c.a || m.b != c.b) continue;
+      if (c.t - m.t <= slack || (m.crossing == c.crossing && c.t <= m.t_latest + slack)) {
+        m.t_latest = std::max(m.t_latest, c.t_latest);
+        for (std::size_t j = k; j < reach.size(); ++j) reach[j] = std::max(reach[j], m.t_latest);
         dup = true;
-        break;
       }
-    if (!dup) merged.push_back(c);
+    }
+    if (dup) continue;
+    merged.push_back(c);
+    reach.push_back(std::max(reach.empty() ? -HUGE_VAL : reach.back(), c.t_latest));
   }
   out = std::move(merged);
 }
@@ -227,6 +241,7 @@ void solveTrianglePair(const SceneData& st, const PairSpan& ps, const MovingTria
       c.span = ps.span_index;
       c.span_time = r.lo;
       c.t = ps.t0 + r.lo * (ps.t1 - ps.t0);
+      c.t_latest = ps.t0 + r.hi * (ps.t1 - ps.t0);
       c.type = type;
       c.crossing = r.crossing;
       c.certain = r.certain;
@@ -973,6 +988,7 @@ struct TwoQuery {
     auto make = [&](ContactType type, const ContactRoot& r) {
       Contact c;
       c.t = w.ta + r.lo * (w.tb - w.ta);
+      c.t_latest = w.ta + r.hi * (w.tb - w.ta);
       c.span = w.ia;
       c.span_time = w.sa0 + w.da * r.lo;
       c.type = type;

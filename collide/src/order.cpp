@@ -39,7 +39,7 @@ bool contactBefore(const Contact& x, const Contact& y) {
     return std::make_tuple(orderedBits(c.t), !c.certain, c.crossing == 0, c.span, orderedBits(c.span_time),
                            static_cast<int>(c.type), c.a, c.b, c.crossing, orderedBits(c.point.x()),
                            orderedBits(c.point.y()), orderedBits(c.point.z()), orderedBits(c.normal.x()),
-                           orderedBits(c.normal.y()), orderedBits(c.normal.z()));
+                           orderedBits(c.normal.y()), orderedBits(c.normal.z()), orderedBits(c.t_latest));
   };
   return key(x) < key(y);
 }

@@ -70,6 +70,10 @@ const char* to_string(ContactType type) noexcept;
 /// One contact event between two meshes.
 struct Contact {
   double t = 0.0;           ///< motion time (key time scale), never later than the true contact
+  /// The true contact lies in [t, t_latest]: the root's bracket, 1e-12 of a span wide for a
+  /// clean crossing (RootOptions::time_tolerance), wider where rounding blurs the contact
+  /// function (features nearly parallel: see RootOptions) or for a touch.
+  double t_latest = 0.0;
   std::size_t span = 0;     ///< index of the span of a's motion
   double span_time = 0.0;   ///< that span's own parameter s in [0, 1]
   ContactType type = ContactType::VertexFace;
