@@ -8,6 +8,7 @@
 #include "isolate.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -227,7 +228,8 @@ class TreeQuery {
 
   std::vector<Contact> run() {
     const auto start = Clock::now();
-    levels_.resize(kMaxDepth + 2);
+    for (Level& l : levels_) l.front.clear(), l.pool.clear();
+    found_.clear(), stack_.clear(), work_.clear(), reached_.clear(), local_faces_.clear();
     levels_[0].front.assign(1, Entry{0, 0, 1});
     levels_[0].pool.assign(1, 0u);
     for (std::size_t i = 0; i < spans_.size() && !done_; ++i) interval(i, 0.0, 1.0, 0);
@@ -253,7 +255,12 @@ class TreeQuery {
     double mu = 0;
     Vec row;  // |M_k|: norms of the rows of M (rounded up)
     std::unique_ptr<SpanRoots> fwd, inv;  // built on the span's first exact solve
-    std::unordered_map<std::uint64_t, Affine3> powers;  // A^m by the bits of m (middles of intervals)
+    // A^m for the latest middles m of intervals (a ring of kPowers): the triangles that an
+    // interval reaches are refined alone on the same halves, quarters, ... of it, one after
+    // another, and find their powers here.
+    std::array<std::uint64_t, 16> power_at{};  // the bits of m
+    std::array<Affine3, 16> powers;
+    unsigned power_count = 0;
   };
   // The middle pose of span time [a, b]: A^m (Pm), the body-to-world pose (P = A^m start), |L| of
   // P entrywise, magnitudes for the rounding margin, and the factor that turns a speed at the
@@ -275,7 +282,7 @@ class TreeQuery {
     // translation, M_k = 0, thus travels exactly r |v_k|. grow = r phi1(r |M|) bounds the whole
     // displacement.)
     double r, rxm;
-    unsigned id = 0;  // distinct per call of frame() in a query (see VertexSlot)
+    std::uint64_t id = 0;  // distinct per call of frame() on a thread (see VertexSlot)
   };
   // A moving node (index into body_.nodes) paired with static tree nodes pool[begin, end).
   struct Entry {
@@ -314,9 +321,15 @@ class TreeQuery {
     const double m = 0.5 * (a + b);
     std::uint64_t key;
     std::memcpy(&key, &m, sizeof key);
-    auto it = sc.powers.find(key);
-    if (it == sc.powers.end()) it = sc.powers.emplace(key, sc.span->power(m)).first;
-    f.Pm = it->second;
+    const unsigned kept = std::min(sc.power_count, static_cast<unsigned>(sc.powers.size()));
+    unsigned k = 0;
+    while (k < kept && sc.power_at[k] != key) ++k;
+    if (k == kept) {
+      k = sc.power_count++ % static_cast<unsigned>(sc.powers.size());
+      sc.power_at[k] = key;
+      sc.powers[k] = sc.span->power(m);
+    }
+    f.Pm = sc.powers[k];
     f.P = f.Pm * sc.span->start();
     f.Labs = f.P.linear().cwiseAbs();
     f.lnorm = f.P.linear().norm();
@@ -331,7 +344,7 @@ class TreeQuery {
     f.grow = r * p.p1 * kBoundSlack * (1 + 1e-12);
     f.r = r * kBoundSlack * (1 + 1e-12);
     f.rxm = r * r * p.p2 * kBoundSlack * (1 + 1e-12);
-    f.id = ++frames_;
+    f.id = ++scratch_.frames;
     return f;
   }
 
@@ -705,25 +718,45 @@ class TreeQuery {
   double tol_ = 0, margin_ = 0, feature_ = 0;
   std::vector<SpanCtx> spans_;
   std::optional<Contact> best_;
-  std::vector<Contact> all_, found_;
-  std::vector<unsigned> stack_;
-  std::vector<Level> levels_;  // by depth (see interval)
-  std::vector<Entry> work_;
-  std::vector<LocalItem> reached_;  // the heap of local
-  std::vector<unsigned> local_faces_;  // the static faces of the LocalItems of one triangle (see local)
+  std::vector<Contact> all_;
   bool done_ = false;
   // Body vertices placed in one frame, shared by the triangles around them (which the search
   // tends to place on the same interval one after another): a direct-mapped table by vertex
   // number, each slot tagged with its vertex and frame, so a hit gives the same doubles.
+  // (Frame numbers grow across the queries of a thread: a slot left by an earlier query never
+  // matches.)
   struct VertexSlot {
-    unsigned frame = 0;
+    std::uint64_t frame = 0;
     int vertex = -1;
     Vec mid, pad;
     double rad = 0;
   };
   static constexpr unsigned kVertexSlots = 256;
-  unsigned frames_ = 0;
-  mutable std::vector<VertexSlot> vertex_slots_ = std::vector<VertexSlot>(kVertexSlots);
+  // The working memory of the queries of one thread, kept from query to query: a first contact
+  // takes microseconds, and allocating these anew took several percent of it. Each query
+  // empties what it reads before it reads it (run), so nothing carries over but capacity.
+  struct Scratch {
+    std::vector<Contact> found;
+    std::vector<unsigned> stack;
+    std::vector<Level> levels = std::vector<Level>(kMaxDepth + 2);  // by depth (see interval)
+    std::vector<Entry> work;
+    std::vector<LocalItem> reached;      // the heap of local
+    std::vector<unsigned> local_faces;  // the static faces of the LocalItems of one triangle (see local)
+    std::vector<VertexSlot> vertex_slots = std::vector<VertexSlot>(kVertexSlots);
+    std::uint64_t frames = 0;  // frames made so far (Frame::id)
+  };
+  static Scratch& threadScratch() {
+    thread_local Scratch scratch;
+    return scratch;
+  }
+  Scratch& scratch_ = threadScratch();
+  std::vector<Contact>& found_ = scratch_.found;
+  std::vector<unsigned>& stack_ = scratch_.stack;
+  std::vector<Level>& levels_ = scratch_.levels;
+  std::vector<Entry>& work_ = scratch_.work;
+  std::vector<LocalItem>& reached_ = scratch_.reached;
+  std::vector<unsigned>& local_faces_ = scratch_.local_faces;
+  std::vector<VertexSlot>& vertex_slots_ = scratch_.vertex_slots;
 };
 
 }  // namespace

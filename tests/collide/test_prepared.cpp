@@ -15,6 +15,8 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <string>
+#include <thread>
 #include <vector>
 
 namespace {
@@ -196,6 +198,50 @@ TEST(CollidePrepared, FineMovingMeshAgreesWithThePlainQueries) {
   }
   EXPECT_GT(compared, 30);
   EXPECT_GT(hits, 15);
+}
+
+// The prepared queries keep their working memory from query to query on each thread (the
+// vertex placements among it, tagged by frame numbers that keep growing): a query's answer and
+// counters must be those of the same query on a fresh thread. Here a ball moves along each
+// motion against a static sphere, and along the same motion moved 5 units away against the
+// sphere moved alike, one query after the other on this thread: the two searches meet the same
+// intervals in the same order and place the same vertices there, 5 units apart. (Frame numbers
+// restarted at each query do reuse such placements here, about 80 times, but only in boxes
+// whose decisions they leave unchanged: this test does not see that fault.)
+TEST(CollidePrepared, WorkingMemoryKeptBetweenQueriesLeavesNoTrace) {
+  const V away(5, 0, 0);
+  const Mesh fixed = uvSphere(10, 20, 0.9), fixed_away = uvSphere(10, 20, 0.9, away);
+  const StaticScene scenes[2] = {StaticScene(fixed.v, fixed.f), StaticScene(fixed_away.v, fixed_away.f)};
+  const Mesh ball = uvSphere(12, 32, 0.6);
+  const PreparedMesh prepared(ball.v, ball.f);
+  std::mt19937_64 rng(14142135);
+  std::vector<Motion3> motions;
+  while (motions.size() < 12) {
+    Affine3 B, C;
+    if (!steady_test::randomApproach(rng, motions.size() % 3 == 0, B, C)) continue;
+    const Affine3 T = Affine3::translation(away);
+    motions.push_back(Motion3::polySam(std::vector<Affine3>{B, C}));
+    motions.push_back(Motion3::polySam(std::vector<Affine3>{T * B, T * C}));
+  }
+  auto run = [&](std::size_t q) {
+    steady::CollideStats stats;
+    const auto c = scenes[q % 2].firstContact(prepared, motions[q], {}, &stats);
+    char key[160];
+    std::snprintf(key, sizeof key, "%d %a %d %d %d %zu %zu %zu", c ? 1 : 0, c ? c->t : 0.0, c ? c->a[0] : -1,
+                  c ? c->b[0] : -1, c ? static_cast<int>(c->type) : -1, stats.candidate_pairs, stats.pairs_solved,
+                  stats.feature_solves);
+    return std::string(key);
+  };
+  std::vector<std::string> fresh(motions.size());
+  for (std::size_t q = 0; q < motions.size(); ++q) std::thread([&, q] { fresh[q] = run(q); }).join();
+  int contacts = 0;
+  for (const std::string& f : fresh) contacts += f[0] == '1';
+  EXPECT_GE(contacts, 8);
+  for (int pass = 0; pass < 2; ++pass)
+    for (std::size_t j = 0; j < motions.size(); ++j) {
+      const std::size_t q = pass == 0 ? j : motions.size() - 1 - j;
+      EXPECT_EQ(run(q), fresh[q]) << "query " << q << ", pass " << pass;
+    }
 }
 
 // Fine meshes over long motions (many halvings of the time intervals, triangles refined alone):
