@@ -13,7 +13,6 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <unordered_map>
 #include <limits>
 #include <memory>
 #include <numeric>
@@ -247,6 +246,7 @@ class TreeQuery {
   CollideStats stats;
 
  private:
+  static constexpr unsigned kPowers = 16;
   struct SpanCtx {
     const Span3* span = nullptr;
     double t0 = 0, t1 = 1;
@@ -255,12 +255,12 @@ class TreeQuery {
     double mu = 0;
     Vec row;  // |M_k|: norms of the rows of M (rounded up)
     std::unique_ptr<SpanRoots> fwd, inv;  // built on the span's first exact solve
-    // A^m for the latest middles m of intervals (a ring of kPowers): the triangles that an
+    // A^m for the latest kPowers middles m of intervals, in a ring: the triangles that an
     // interval reaches are refined alone on the same halves, quarters, ... of it, one after
     // another, and find their powers here.
-    std::array<std::uint64_t, 16> power_at{};  // the bits of m
-    std::array<Affine3, 16> powers;
-    unsigned power_count = 0;
+    std::array<std::uint64_t, kPowers> power_at{};  // the bits of m
+    std::array<Affine3, kPowers> powers;
+    unsigned power_count = 0;  // powers made so far
   };
   // The middle pose of span time [a, b]: A^m (Pm), the body-to-world pose (P = A^m start), |L| of
   // P entrywise, magnitudes for the rounding margin, and the factor that turns a speed at the
@@ -321,11 +321,11 @@ class TreeQuery {
     const double m = 0.5 * (a + b);
     std::uint64_t key;
     std::memcpy(&key, &m, sizeof key);
-    const unsigned kept = std::min(sc.power_count, static_cast<unsigned>(sc.powers.size()));
+    const unsigned kept = std::min(sc.power_count, kPowers);
     unsigned k = 0;
     while (k < kept && sc.power_at[k] != key) ++k;
     if (k == kept) {
-      k = sc.power_count++ % static_cast<unsigned>(sc.powers.size());
+      k = sc.power_count++ % kPowers;
       sc.power_at[k] = key;
       sc.powers[k] = sc.span->power(m);
     }

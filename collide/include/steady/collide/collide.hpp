@@ -212,8 +212,9 @@ class StaticScene {
 
   /// The same three queries for a prepared mesh (see PreparedMesh): the same answers and
   /// guarantee, with a search that follows the motion through time and the two hierarchies in
-  /// depth, so that a query costs about what the neighbourhood of the contact costs.
-  /// Error(InvalidArgument) for bad options.
+  /// depth, so that a query costs about what the neighbourhood of the contact costs. Each
+  /// thread keeps the working memory of these queries for its next one (it grows to what the
+  /// largest query on that thread needed). Error(InvalidArgument) for bad options.
   std::optional<Contact> firstContact(const PreparedMesh& mesh, const Motion3& motion, const CollideOptions& options = {},
                                       CollideStats* stats = nullptr) const;
   /// Every contact event of a prepared mesh over the motion, in time order (see contacts above).
