@@ -5301,30 +5301,45 @@ Draft envelopeOf(detail::Cycle cycle, double eps, double eps_t, std::size_t span
   // patch of 18 faces spanning 56 eps, kept whole for a mouth 14 eps from its far end, 1.02 eps
   // deep there). Pieces are numbered by (region or patch, grid cell of the face's centroid).
   std::vector<int> crack_region(A.faces.size(), -1), pocket_piece(A.faces.size(), -1);
+  int crack_count = 0, pocket_count = 0;  // crack region pieces and pocket pieces
   std::vector<char> pocket(A.faces.size(), 0);  // faces of buried patches
   {
     const double cell = kCrackCell * eps_t;
-    std::map<std::array<long long, 4>, int> crack_ids, pocket_ids;
-    auto piece = [&](std::map<std::array<long long, 4>, int>& ids, long long owner, std::size_t f) {
+    // (numbered in face order, as pieces are first met; hash tables: ordered maps of the keys
+    // took 0.16 s of bunny00's screw on one thread)
+    struct PieceHash {
+      std::size_t operator()(const std::array<long long, 4>& k) const {
+        const auto u = [](long long x) { return static_cast<unsigned long long>(x); };
+        return static_cast<std::size_t>(
+            mixBits(u(k[0]) * 0x9E3779B97F4A7C15ull ^ u(k[1]) * 73856093ULL ^ u(k[2]) * 19349663ULL ^ u(k[3]) * 83492791ULL));
+      }
+    };
+    struct EdgeHash {
+      std::size_t operator()(std::uint64_t key) const { return static_cast<std::size_t>(mixBits(key)); }
+    };
+    FlatTable<std::array<long long, 4>, PieceHash> crack_ids, pocket_ids;
+    auto piece = [&](FlatTable<std::array<long long, 4>, PieceHash>& ids, int& count, long long owner, std::size_t f) {
       const Tri& t = A.faces[f];
       const Vec m = (A.approx[t[0]] + A.approx[t[1]] + A.approx[t[2]]) / (3.0 * cell);
       const std::array<long long, 4> key{
           {owner, std::llround(std::floor(m.x())), std::llround(std::floor(m.y())), std::llround(std::floor(m.z()))}};
-      return ids.emplace(key, static_cast<int>(ids.size())).first->second;
+      const auto [id, added] = ids.emplace(key, count);
+      count += added;
+      return *id;
     };
     std::vector<int> parent(A.faces.size());
     std::iota(parent.begin(), parent.end(), 0);
-    std::unordered_map<std::uint64_t, int> first;
+    FlatTable<std::uint64_t, EdgeHash> first;
     for (std::size_t f = 0; f < A.faces.size(); ++f) {
       if (!crack[f]) continue;
       for (int k = 0; k < 3; ++k) {
-        auto [it, added] = first.emplace(edgeKey(A.faces[f][k], A.faces[f][(k + 1) % 3]), static_cast<int>(f));
-        if (!added) parent[findRoot(parent, it->second)] = findRoot(parent, static_cast<int>(f));
+        const auto [other, added] = first.emplace(edgeKey(A.faces[f][k], A.faces[f][(k + 1) % 3]), static_cast<int>(f));
+        if (!added) parent[findRoot(parent, *other)] = findRoot(parent, static_cast<int>(f));
       }
     }
     for (std::size_t f = 0; f < A.faces.size(); ++f) {
-      if (crack[f]) crack_region[f] = piece(crack_ids, findRoot(parent, static_cast<int>(f)), f);
-      if (buried[L.patch[f]]) pocket[f] = 1, pocket_piece[f] = piece(pocket_ids, L.patch[f], f);
+      if (crack[f]) crack_region[f] = piece(crack_ids, crack_count, findRoot(parent, static_cast<int>(f)), f);
+      if (buried[L.patch[f]]) pocket[f] = 1, pocket_piece[f] = piece(pocket_ids, pocket_count, L.patch[f], f);
     }
   }
   std::vector<int> used(A.points.size(), -1);
@@ -5453,17 +5468,18 @@ Draft envelopeOf(detail::Cycle cycle, double eps, double eps_t, std::size_t span
       }
       at_mouth.swap(next);
     }
-    std::set<int> kept_regions, kept_pieces;
+    std::vector<char> kept_regions(static_cast<std::size_t>(crack_count), 0), kept_pieces(static_cast<std::size_t>(pocket_count), 0);
     for (const int f : selectable) {
       const Tri& t = A.faces[f];
-      if (round > 2 ? !(at_mouth[t[0]] || at_mouth[t[1]] || at_mouth[t[2]]) : !onTroubledEdge(t)) continue;
+      // (a face on a troubled edge has its corners at the mouth: the flags first)
+      if (!(at_mouth[t[0]] || at_mouth[t[1]] || at_mouth[t[2]]) || (round <= 2 && !onTroubledEdge(t))) continue;
       rim_out[f] = 0;  // (a rim left out at a mouth that still fails comes back)
-      if (pocket[f]) kept_pieces.insert(pocket_piece[f]);
-      if (crack[f]) kept_regions.insert(crack_region[f]);
+      if (pocket[f]) kept_pieces[static_cast<std::size_t>(pocket_piece[f])] = 1;
+      if (crack[f]) kept_regions[static_cast<std::size_t>(crack_region[f])] = 1;
     }
     for (const int f : selectable) {
-      if (pocket[f] && kept_pieces.count(pocket_piece[f])) pocket[f] = 0;
-      if (crack[f] && kept_regions.count(crack_region[f])) crack[f] = 0;
+      if (pocket[f] && kept_pieces[static_cast<std::size_t>(pocket_piece[f])]) pocket[f] = 0;
+      if (crack[f] && kept_regions[static_cast<std::size_t>(crack_region[f])]) crack[f] = 0;
     }
   }
   {  // a buried patch counts as removed when none of its pieces was kept
