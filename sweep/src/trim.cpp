@@ -206,6 +206,10 @@ inline std::uint64_t mixBits(std::uint64_t x) {
   x *= 0xc4ceb9fe1a85ec53ull;
   return x ^ (x >> 33);
 }
+// FlatTable's hash of 64-bit keys.
+struct MixHash {
+  std::size_t operator()(std::uint64_t key) const { return static_cast<std::size_t>(mixBits(key)); }
+};
 
 int findRoot(std::vector<int>& parent, int x) {
   while (parent[x] != x) x = parent[x] = parent[parent[x]];
@@ -515,10 +519,7 @@ class PointIndex {
   }
   Eigen::Vector3d origin_;
   double inv_;
-  struct CellHash {
-    std::size_t operator()(std::uint64_t key) const { return static_cast<std::size_t>(mixBits(key)); }
-  };
-  FlatTable<std::uint64_t, CellHash> head_;  // per cell: its last node
+  FlatTable<std::uint64_t, MixHash> head_;  // per cell: its last node
   std::vector<Node> nodes_;
 };
 
@@ -5314,9 +5315,6 @@ Draft envelopeOf(detail::Cycle cycle, double eps, double eps_t, std::size_t span
             mixBits(u(k[0]) * 0x9E3779B97F4A7C15ull ^ u(k[1]) * 73856093ULL ^ u(k[2]) * 19349663ULL ^ u(k[3]) * 83492791ULL));
       }
     };
-    struct EdgeHash {
-      std::size_t operator()(std::uint64_t key) const { return static_cast<std::size_t>(mixBits(key)); }
-    };
     FlatTable<std::array<long long, 4>, PieceHash> crack_ids, pocket_ids;
     auto piece = [&](FlatTable<std::array<long long, 4>, PieceHash>& ids, int& count, long long owner, std::size_t f) {
       const Tri& t = A.faces[f];
@@ -5329,7 +5327,7 @@ Draft envelopeOf(detail::Cycle cycle, double eps, double eps_t, std::size_t span
     };
     std::vector<int> parent(A.faces.size());
     std::iota(parent.begin(), parent.end(), 0);
-    FlatTable<std::uint64_t, EdgeHash> first;
+    FlatTable<std::uint64_t, MixHash> first;
     for (std::size_t f = 0; f < A.faces.size(); ++f) {
       if (!crack[f]) continue;
       for (int k = 0; k < 3; ++k) {
