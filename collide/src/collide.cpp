@@ -367,10 +367,13 @@ StaticScene::StaticScene(std::vector<Vec> vertices, Faces faces) : impl_(std::ma
   s.F = std::move(faces);
   s.normal.resize(s.F.size());
   s.offset.resize(s.F.size());
+  s.plane_range.resize(s.F.size());
   for (std::size_t f = 0; f < s.F.size(); ++f) {
     const Vec& a = s.V[s.F[f][0]];
     s.normal[f] = (s.V[s.F[f][1]] - a).cross(s.V[s.F[f][2]] - a).normalized();
     s.offset[f] = s.normal[f].dot(a);
+    const double b1 = s.normal[f].dot(s.V[s.F[f][1]]), b2 = s.normal[f].dot(s.V[s.F[f][2]]);
+    s.plane_range[f] = {std::min({s.offset[f], b1, b2}), std::max({s.offset[f], b1, b2})};
   }
   s.diag = boxDiagonal(s.V);
   s.mean_extent = meanFaceExtent(s.V, s.F);

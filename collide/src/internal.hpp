@@ -47,6 +47,10 @@ struct SceneData {
   Faces F;
   std::vector<Vec> normal;  // unit face normals
   std::vector<double> offset;  // normal . x = offset on the face's plane
+  // The least and greatest of normal . x over the face's corners (offset up to rounding): the
+  // face's extent along its normal, read by the prepared queries' plane test without the face's
+  // vertices.
+  std::vector<std::array<double, 2>> plane_range;
   double diag = 0;
   double mean_extent = 0;  // mean over faces of the largest side of the face's box
   Vec lo, hi;  // bounding box

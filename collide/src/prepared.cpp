@@ -228,7 +228,7 @@ class TreeQuery {
   std::vector<Contact> run() {
     const auto start = Clock::now();
     for (Level& l : levels_) l.front.clear(), l.pool.clear();
-    found_.clear(), stack_.clear(), work_.clear(), reached_.clear(), local_faces_.clear();
+    found_.clear(), work_.clear(), reached_.clear(), local_faces_.clear();
     levels_[0].front.assign(1, Entry{0, 0, 1});
     levels_[0].pool.assign(1, 0u);
     for (std::size_t i = 0; i < spans_.size() && !done_; ++i) interval(i, 0.0, 1.0, 0);
@@ -430,12 +430,15 @@ class TreeQuery {
   // Appends to pool the static nodes under pool[begin, end) whose boxes meet s: leaves, or nodes
   // no larger than s (all the way to leaves when to_leaves).
   void filterStatic(const Swept& s, double mag, unsigned begin, unsigned end, bool to_leaves,
-                    std::vector<unsigned>& pool) {
+                    std::vector<unsigned>& pool) const {
+    // A depth-first walk holds at most one node per level plus one (median splits of at most
+    // 2^32 faces make at most 33 levels).
+    unsigned stack[64];
     for (unsigned i = begin; i < end; ++i) {
-      stack_.push_back(pool[i]);
-      while (!stack_.empty()) {
-        const unsigned id = stack_.back();
-        stack_.pop_back();
+      int top = 0;
+      stack[top++] = pool[i];
+      while (top > 0) {
+        const unsigned id = stack[--top];
         const StaticNode& n = st_.tree[id];
         if (!overlaps(n, s)) continue;
         const double size = std::max({static_cast<double>(n.hi[0]) - n.lo[0], static_cast<double>(n.hi[1]) - n.lo[1],
@@ -447,8 +450,8 @@ class TreeQuery {
         } else if (!to_leaves && size <= s.size) {
           pool.push_back(id);
         } else {
-          stack_.push_back(n.first);
-          stack_.push_back(n.first + 1);
+          stack[top++] = n.first;
+          stack[top++] = n.first + 1;
         }
       }
     }
@@ -476,12 +479,10 @@ class TreeQuery {
   // plus its travel), far inside the margin 1e-12 (mag + size).
   bool planeApart(const Swept& s, unsigned g, double mag) const {
     const Vec& nv = st_.normal[g];
-    const auto& gf = st_.F[g];
     const Vec c = 0.5 * (s.lo + s.hi), h = 0.5 * (s.hi - s.lo);
     const double pc = nv.dot(c), ph = nv.cwiseAbs().dot(h);
-    const double b0 = nv.dot(st_.V[gf[0]]), b1 = nv.dot(st_.V[gf[1]]), b2 = nv.dot(st_.V[gf[2]]);
     const double e = 1e-12 * (mag + s.size);
-    return pc - ph > std::max({b0, b1, b2}) + e || std::min({b0, b1, b2}) > pc + ph + e;
+    return pc - ph > st_.plane_range[g][1] + e || st_.plane_range[g][0] > pc + ph + e;
   }
 
   // Whether moving triangle t (placed on the current interval, swept box s) stays apart from
@@ -737,7 +738,6 @@ class TreeQuery {
   // empties what it reads before it reads it (run), so nothing carries over but capacity.
   struct Scratch {
     std::vector<Contact> found;
-    std::vector<unsigned> stack;
     std::vector<Level> levels = std::vector<Level>(kMaxDepth + 2);  // by depth (see interval)
     std::vector<Entry> work;
     std::vector<LocalItem> reached;      // the heap of local
@@ -751,7 +751,6 @@ class TreeQuery {
   }
   Scratch& scratch_ = threadScratch();
   std::vector<Contact>& found_ = scratch_.found;
-  std::vector<unsigned>& stack_ = scratch_.stack;
   std::vector<Level>& levels_ = scratch_.levels;
   std::vector<Entry>& work_ = scratch_.work;
   std::vector<LocalItem>& reached_ = scratch_.reached;
