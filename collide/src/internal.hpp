@@ -33,12 +33,16 @@ Vec closestOnTriangle(const Vec& p, const Vec& a, const Vec& b, const Vec& c);
 double segmentDistance(const Vec& p0, const Vec& p1, const Vec& q0, const Vec& q1, Vec& cp, Vec& cq);
 
 /// A node of the static scene's own box hierarchy (used by the prepared-mesh queries, which
-/// descend it together with the moving mesh's hierarchy). Boxes are the faces' boxes rounded
-/// outward to float; count > 0 marks a leaf holding faces tree_faces[first, first + count),
-/// otherwise the children are nodes first and first + 1.
-struct StaticNode {
-  float lo[3], hi[3];
-  unsigned first = 0, count = 0;
+/// descend it together with the moving mesh's hierarchy): up to four children side by side, their
+/// boxes by coordinate (the faces' boxes rounded outward to float, so that one pass of compares
+/// tests all four). Child k is node child[k] when child[k] >= 0, face -1 - child[k] when < 0; an
+/// empty slot has an inverted box (lo = +inf, hi = -inf), which meets nothing. size[k] is the
+/// largest side of box k. A reference to child k of node i is the number 4 i + k; the root's
+/// box is child 0 of node 0.
+struct alignas(16) StaticNode {
+  float lo[3][4], hi[3][4];
+  float size[4];
+  int child[4];
 };
 
 /// The static scene's data (StaticScene::Impl adds nothing: it only names it for the header).
@@ -56,8 +60,7 @@ struct SceneData {
   Vec lo, hi;  // bounding box
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
-  std::vector<StaticNode> tree;     // box hierarchy over the faces, root first
-  std::vector<unsigned> tree_faces;  // faces in leaf order
+  std::vector<StaticNode> tree;  // box hierarchy over the faces (see StaticNode)
 
   SceneData() = default;
   SceneData(const SceneData&) = delete;
@@ -76,8 +79,8 @@ struct SceneData {
   }
 };
 
-/// Builds SceneData::tree (median splits along the longest axis of the face centroids, one face
-/// per leaf).
+/// Builds SceneData::tree: median splits along the longest axis of the face centroids down to
+/// one face, each node then taking its grandchildren as its four children.
 void buildStaticTree(SceneData& s);
 
 /// One moving triangle prepared for the exact solves of an interval of a span: its vertex indices

@@ -20,6 +20,10 @@
 #include <string>
 #include <utility>
 
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
+
 namespace steady {
 
 using namespace detail;
@@ -30,9 +34,16 @@ namespace detail {
 
 namespace {
 
+// The binary hierarchy first (median splits, one face per leaf), then collapsed to four
+// children a node.
 struct StaticBuilder {
-  SceneData& s;
+  struct BinNode {
+    float lo[3], hi[3];
+    unsigned first = 0, count = 0;  // count > 0: a leaf of faces[first]; else children first, first + 1
+  };
   std::vector<float> lo, hi, centre;  // per face, 3 each: box (rounded outward) and its centre
+  std::vector<unsigned> faces;         // in leaf order
+  std::vector<BinNode> bin;
 
   void build(std::size_t node, unsigned begin, unsigned end) {
     float blo[3] = {std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity(),
@@ -40,7 +51,7 @@ struct StaticBuilder {
     float bhi[3] = {-blo[0], -blo[1], -blo[2]};
     float clo[3] = {blo[0], blo[1], blo[2]}, chi[3] = {bhi[0], bhi[1], bhi[2]};
     for (unsigned i = begin; i < end; ++i) {
-      const std::size_t f = s.tree_faces[i];
+      const std::size_t f = faces[i];
       for (int k = 0; k < 3; ++k) {
         blo[k] = std::min(blo[k], lo[3 * f + k]);
         bhi[k] = std::max(bhi[k], hi[3 * f + k]);
@@ -48,7 +59,7 @@ struct StaticBuilder {
         chi[k] = std::max(chi[k], centre[3 * f + k]);
       }
     }
-    StaticNode& n = s.tree[node];
+    BinNode& n = bin[node];
     std::copy(blo, blo + 3, n.lo);
     std::copy(bhi, bhi + 3, n.hi);
     // One face per leaf: against the benchmark's scene of small sphere copies, leaves of up to
@@ -63,14 +74,59 @@ struct StaticBuilder {
     for (int k = 1; k < 3; ++k)
       if (chi[k] - clo[k] > chi[axis] - clo[axis]) axis = k;
     const unsigned mid = begin + (end - begin) / 2;
-    std::nth_element(s.tree_faces.begin() + begin, s.tree_faces.begin() + mid, s.tree_faces.begin() + end,
+    std::nth_element(faces.begin() + begin, faces.begin() + mid, faces.begin() + end,
                      [&](unsigned x, unsigned y) { return centre[3 * x + axis] < centre[3 * y + axis]; });
-    const auto left = static_cast<unsigned>(s.tree.size());
-    s.tree[node].first = left;  // (n may dangle after the resize below)
-    s.tree[node].count = 0;
-    s.tree.resize(s.tree.size() + 2);
+    const auto left = static_cast<unsigned>(bin.size());
+    bin[node].first = left;  // (n may dangle after the resize below)
+    bin[node].count = 0;
+    bin.resize(bin.size() + 2);
     build(left, begin, mid);
     build(left + 1, mid, end);
+  }
+
+  // Puts binary node b in slot k of out[node]: its box, and the node made of its children and
+  // grandchildren (or its face, for a leaf).
+  void place(std::vector<StaticNode>& out, std::size_t node, int k, unsigned b) {
+    const BinNode& x = bin[b];
+    float size = 0;
+    for (int j = 0; j < 3; ++j) {
+      out[node].lo[j][k] = x.lo[j];
+      out[node].hi[j][k] = x.hi[j];
+      size = std::max(size, x.hi[j] - x.lo[j]);
+    }
+    out[node].size[k] = size;
+    if (x.count > 0) {
+      out[node].child[k] = -1 - static_cast<int>(faces[x.first]);
+      return;
+    }
+    unsigned slots[4];
+    int n = 0;
+    for (unsigned c : {x.first, x.first + 1}) {
+      if (bin[c].count > 0) {
+        slots[n++] = c;
+      } else {
+        slots[n++] = bin[c].first;
+        slots[n++] = bin[c].first + 1;
+      }
+    }
+    const std::size_t made = out.size();
+    out.push_back(emptyNode());
+    out[node].child[k] = static_cast<int>(made);
+    for (int j = 0; j < n; ++j) place(out, made, j, slots[j]);
+  }
+
+  static StaticNode emptyNode() {
+    StaticNode e;
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 4; ++k) {
+        e.lo[j][k] = std::numeric_limits<float>::infinity();
+        e.hi[j][k] = -std::numeric_limits<float>::infinity();
+      }
+    for (int k = 0; k < 4; ++k) {
+      e.size[k] = std::numeric_limits<float>::infinity();
+      e.child[k] = 0;
+    }
+    return e;
   }
 };
 
@@ -78,7 +134,10 @@ struct StaticBuilder {
 
 void buildStaticTree(SceneData& s) {
   const std::size_t nf = s.F.size();
-  StaticBuilder b{s, {}, {}, {}};
+  if (nf > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    throw Error(ErrorCode::InvalidArgument, "a static scene holds at most 2^31 - 1 faces, got " + std::to_string(nf) +
+                                                "; split it into several scenes");
+  StaticBuilder b;
   b.lo.resize(3 * nf);
   b.hi.resize(3 * nf);
   b.centre.resize(3 * nf);
@@ -95,12 +154,16 @@ void buildStaticTree(SceneData& s) {
       b.centre[3 * f + k] = 0.5f * (l[k] + h[k]);
     }
   }
-  s.tree_faces.resize(nf);
-  std::iota(s.tree_faces.begin(), s.tree_faces.end(), 0u);
-  s.tree.clear();
-  s.tree.reserve(2 * nf);  // 2 nf - 1 nodes for leaves of one face
-  s.tree.emplace_back();
+  b.faces.resize(nf);
+  std::iota(b.faces.begin(), b.faces.end(), 0u);
+  b.bin.reserve(2 * nf);  // 2 nf - 1 nodes for leaves of one face
+  b.bin.emplace_back();
   b.build(0, 0, static_cast<unsigned>(nf));
+  s.tree.clear();
+  s.tree.reserve(nf / 2 + 2);  // (every node but the root's holder has at least two children)
+  s.tree.push_back(StaticBuilder::emptyNode());  // the root's box is child 0 of node 0
+  b.place(s.tree, 0, 0, 0);
+  s.tree.shrink_to_fit();
 }
 
 }  // namespace detail
@@ -422,36 +485,75 @@ class TreeQuery {
     return std::min(kNodeWait * rho, child);
   }
 
-  static bool overlaps(const StaticNode& n, const Swept& s) {
-    return n.lo[0] <= s.hi.x() && n.lo[1] <= s.hi.y() && n.lo[2] <= s.hi.z() && s.lo.x() <= n.hi[0] &&
-           s.lo.y() <= n.hi[1] && s.lo.z() <= n.hi[2];
+  // A swept box rounded outward to float, to meet the static boxes (floats) in float compares:
+  // a static box meets it whenever it meets the double box (rounding only adds near-ties).
+  // Rounding to nearest moves x by at most 2^-24 |x| (or 2^-150 below float's normal range), so
+  // x -+ (2^-22 |x| + 1e-38) rounds to a float on the far side of x.
+  struct FloatBox {
+    float lo[3], hi[3];
+    float size;
+  };
+  static FloatBox floatBox(const Swept& s) {
+    FloatBox b;
+    for (int k = 0; k < 3; ++k) {
+      b.lo[k] = static_cast<float>(s.lo[k] - (0x1p-22 * std::abs(s.lo[k]) + 1e-38));
+      b.hi[k] = static_cast<float>(s.hi[k] + (0x1p-22 * std::abs(s.hi[k]) + 1e-38));
+    }
+    b.size = static_cast<float>(s.size);
+    return b;
+  }
+  // The children of static node n whose boxes meet b, as bits (bit k: child k).
+  static unsigned meets(const StaticNode& n, const FloatBox& b) {
+#if defined(__SSE__) && !defined(STEADY_SCALAR_STATIC_TEST)
+    __m128 ok = _mm_and_ps(_mm_cmple_ps(_mm_load_ps(n.lo[0]), _mm_set1_ps(b.hi[0])),
+                           _mm_cmple_ps(_mm_load_ps(n.lo[1]), _mm_set1_ps(b.hi[1])));
+    ok = _mm_and_ps(ok, _mm_cmple_ps(_mm_load_ps(n.lo[2]), _mm_set1_ps(b.hi[2])));
+    ok = _mm_and_ps(ok, _mm_cmple_ps(_mm_set1_ps(b.lo[0]), _mm_load_ps(n.hi[0])));
+    ok = _mm_and_ps(ok, _mm_cmple_ps(_mm_set1_ps(b.lo[1]), _mm_load_ps(n.hi[1])));
+    ok = _mm_and_ps(ok, _mm_cmple_ps(_mm_set1_ps(b.lo[2]), _mm_load_ps(n.hi[2])));
+    return static_cast<unsigned>(_mm_movemask_ps(ok));
+#else
+    unsigned m = 0;
+    for (int k = 0; k < 4; ++k)
+      m |= static_cast<unsigned>((n.lo[0][k] <= b.hi[0]) & (n.lo[1][k] <= b.hi[1]) & (n.lo[2][k] <= b.hi[2]) &
+                                 (b.lo[0] <= n.hi[0][k]) & (b.lo[1] <= n.hi[1][k]) & (b.lo[2] <= n.hi[2][k]))
+           << k;
+    return m;
+#endif
+  }
+  // The face of static reference r (4 node + slot), or -1 for an inner node.
+  int refFace(unsigned r) const {
+    const int c = st_.tree[r >> 2].child[r & 3];
+    return c < 0 ? -1 - c : -1;
   }
 
-  // Appends to pool the static nodes under pool[begin, end) whose boxes meet s: leaves, or nodes
-  // no larger than s (all the way to leaves when to_leaves).
+  // Appends to pool the static references (see StaticNode) under pool[begin, end) whose boxes
+  // meet s: faces, or nodes no larger than s (all the way to faces when to_leaves).
   void filterStatic(const Swept& s, double mag, unsigned begin, unsigned end, bool to_leaves,
                     std::vector<unsigned>& pool) const {
-    // A depth-first walk holds at most one node per level plus one (median splits of at most
-    // 2^32 faces make at most 33 levels).
+    const FloatBox fb = floatBox(s);
+    // A depth-first walk: the stack holds at most three references a level plus one, and a tree
+    // of at most 2^31 faces has at most 17 levels of four children.
     unsigned stack[64];
     for (unsigned i = begin; i < end; ++i) {
+      const unsigned r0 = pool[i];
+      if (!((meets(st_.tree[r0 >> 2], fb) >> (r0 & 3)) & 1u)) continue;
       int top = 0;
-      stack[top++] = pool[i];
+      stack[top++] = r0;
       while (top > 0) {
-        const unsigned id = stack[--top];
-        const StaticNode& n = st_.tree[id];
-        if (!overlaps(n, s)) continue;
-        const double size = std::max({static_cast<double>(n.hi[0]) - n.lo[0], static_cast<double>(n.hi[1]) - n.lo[1],
-                                      static_cast<double>(n.hi[2]) - n.lo[2]});
-        if (n.count > 0) {
-          // (a leaf holds one face, see StaticBuilder; the test needs that)
-          if (n.count == 1 && !to_leaves && planeApart(s, st_.tree_faces[n.first], mag)) continue;
-          pool.push_back(id);
-        } else if (!to_leaves && size <= s.size) {
-          pool.push_back(id);
+        const unsigned r = stack[--top];
+        const StaticNode& n = st_.tree[r >> 2];
+        const unsigned k = r & 3;
+        const int c = n.child[k];
+        if (c < 0) {
+          if (!to_leaves && planeApart(s, static_cast<unsigned>(-1 - c), mag)) continue;
+          pool.push_back(r);
+        } else if (!to_leaves && n.size[k] <= fb.size) {
+          pool.push_back(r);
         } else {
-          stack[top++] = n.first;
-          stack[top++] = n.first + 1;
+          const unsigned m = meets(st_.tree[static_cast<unsigned>(c)], fb);
+          for (unsigned j = 0; j < 4; ++j)
+            if ((m >> j) & 1u) stack[top++] = 4 * static_cast<unsigned>(c) + j;
         }
       }
     }
@@ -575,9 +677,8 @@ class TreeQuery {
       } else {
         local_faces_.clear();
         for (unsigned k = mark; k < stop; ++k) {
-          const StaticNode& sn = st_.tree[pool[k]];
-          for (unsigned j = sn.first; j < sn.first + sn.count; ++j)
-            if (candidate(t, s, st_.tree_faces[j])) local_faces_.push_back(st_.tree_faces[j]);
+          const auto g = static_cast<unsigned>(refFace(pool[k]));  // (a face: filtered to the leaves)
+          if (candidate(t, s, g)) local_faces_.push_back(g);
         }
         if (!local_faces_.empty()) {
           reached_.assign(1, LocalItem{a, b, depth, e.node, t, s, 0, static_cast<unsigned>(local_faces_.size())});
