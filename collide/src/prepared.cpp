@@ -134,8 +134,9 @@ struct StaticBuilder {
 
 void buildStaticTree(SceneData& s) {
   const std::size_t nf = s.F.size();
-  if (nf > static_cast<std::size_t>(std::numeric_limits<int>::max()))
-    throw Error(ErrorCode::InvalidArgument, "a static scene holds at most 2^31 - 1 faces, got " + std::to_string(nf) +
+  // (references 4 node + child are 32-bit, and there are fewer nodes than faces)
+  if (nf > (std::size_t{1} << 29))
+    throw Error(ErrorCode::InvalidArgument, "a static scene holds at most 2^29 faces, got " + std::to_string(nf) +
                                                 "; split it into several scenes");
   StaticBuilder b;
   b.lo.resize(3 * nf);
@@ -160,7 +161,7 @@ void buildStaticTree(SceneData& s) {
   b.bin.emplace_back();
   b.build(0, 0, static_cast<unsigned>(nf));
   s.tree.clear();
-  s.tree.reserve(nf / 2 + 2);  // (every node but the root's holder has at least two children)
+  s.tree.reserve(nf / 2 + 2);  // (the median splits make about nf / 3 nodes)
   s.tree.push_back(StaticBuilder::emptyNode());  // the root's box is child 0 of node 0
   b.place(s.tree, 0, 0, 0);
   s.tree.shrink_to_fit();
@@ -533,7 +534,7 @@ class TreeQuery {
                     std::vector<unsigned>& pool) const {
     const FloatBox fb = floatBox(s);
     // A depth-first walk: the stack holds at most three references a level plus one, and a tree
-    // of at most 2^31 faces has at most 17 levels of four children.
+    // of at most 2^29 faces (median splits) has at most 15 levels of four children.
     unsigned stack[64];
     for (unsigned i = begin; i < end; ++i) {
       const unsigned r0 = pool[i];
