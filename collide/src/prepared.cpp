@@ -522,11 +522,8 @@ class TreeQuery {
     return m;
 #endif
   }
-  // The face of static reference r (4 node + slot), or -1 for an inner node.
-  int refFace(unsigned r) const {
-    const int c = st_.tree[r >> 2].child[r & 3];
-    return c < 0 ? -1 - c : -1;
-  }
+  // The face of static reference r (4 node + slot), which names a face (a leaf child).
+  unsigned refFace(unsigned r) const { return static_cast<unsigned>(-1 - st_.tree[r >> 2].child[r & 3]); }
 
   // Appends to pool the static references (see StaticNode) under pool[begin, end) whose boxes
   // meet s: faces, or nodes no larger than s (all the way to faces when to_leaves).
@@ -678,7 +675,7 @@ class TreeQuery {
       } else {
         local_faces_.clear();
         for (unsigned k = mark; k < stop; ++k) {
-          const auto g = static_cast<unsigned>(refFace(pool[k]));  // (a face: filtered to the leaves)
+          const unsigned g = refFace(pool[k]);  // (filtered to the leaves)
           if (candidate(t, s, g)) local_faces_.push_back(g);
         }
         if (!local_faces_.empty()) {
