@@ -416,8 +416,8 @@ class TreeQuery {
   // world box cw +- |L| h, whose points y lie within rho = ||L| h| of cw. Since
   // v(y) - v(cw) = M (y - cw), |v_k(y)| <= |v_k(cw)| + |M_k| rho (M_k the k-th row) and
   // |v(y)| <= |v(cw)| + |M| rho; the travel bound of Frame applies to each axis.
-  Swept nodeBox(const SpanCtx& sc, const Frame& f, const BodyNode& n) const {
-    const Vec cw = f.P.applyPoint(n.c);
+  Swept nodeBox(const SpanCtx& sc, const Frame& f, const BodyNode& n, Vec& cw) const {
+    cw = f.P.applyPoint(n.c);
     const Vec ext = f.Labs * n.h;
     const Vec vc = sc.M * cw + sc.u;
     Swept s;
@@ -525,9 +525,19 @@ class TreeQuery {
   // The face of static reference r (4 node + slot), which names a face (a leaf child).
   unsigned refFace(unsigned r) const { return static_cast<unsigned>(-1 - st_.tree[r >> 2].child[r & 3]); }
 
+  // What the plane test (planeApart) knows of a moving node beyond its swept box: an inner
+  // node's body box posed at the middle (centre cw, P's linear part L, body half sides h), or a
+  // leaf's triangle placed at the middle.
+  struct Shape {
+    const Eigen::Matrix3d* L = nullptr;
+    Vec cw, h;
+    const MovingTriangle* t = nullptr;
+  };
+
   // Appends to pool the static references (see StaticNode) under pool[begin, end) whose boxes
-  // meet s: faces, or nodes no larger than s (all the way to faces when to_leaves).
-  void filterStatic(const Swept& s, double mag, unsigned begin, unsigned end, bool to_leaves,
+  // meet s: faces, or nodes no larger than s (all the way to faces when to_leaves; otherwise the
+  // faces met pass planeApart first, with the node's shape).
+  void filterStatic(const Swept& s, const Shape& shape, double mag, unsigned begin, unsigned end, bool to_leaves,
                     std::vector<unsigned>& pool) const {
     const FloatBox fb = floatBox(s);
     // A depth-first walk: the stack holds at most three references a level plus one, and a tree
@@ -544,7 +554,7 @@ class TreeQuery {
         const unsigned k = r & 3;
         const int c = n.child[k];
         if (c < 0) {
-          if (!to_leaves && planeApart(s, static_cast<unsigned>(-1 - c), mag)) continue;
+          if (!to_leaves && planeApart(s, shape, static_cast<unsigned>(-1 - c), mag)) continue;
           pool.push_back(r);
         } else if (!to_leaves && n.size[k] <= fb.size) {
           pool.push_back(r);
@@ -567,22 +577,38 @@ class TreeQuery {
     return std::max(a, best_->span_time);
   }
 
-  // Whether static face g stays apart from swept box s along the face's normal n: the box's
-  // projection is n.c +- |n|.h (c, h its centre and half sides), the face's the range of its
-  // vertices' projections. The box holds every point its moving node reaches over the interval
-  // (and the contact distance), so a gap along n means no contact there with the node or any
-  // node under it, on the interval or any part of it (it is applied to the static leaves met by
-  // inner nodes and waiting triangles; the face tests of candidate cover the rest). Rounding:
-  // the box's centre and half sides and the dot products (unit n) are within a few 2^-53 of
-  // coordinates below 3 mag + size (mag bounds the static coordinates and the moving vertices at
-  // the middle, |x| <= |t| + |L| vmax; a node's box reaches |L| |h| <= sqrt 3 |L| vmax farther,
-  // plus its travel), far inside the margin 1e-12 (mag + size).
-  bool planeApart(const Swept& s, unsigned g, double mag) const {
+  // Whether static face g stays apart along its unit normal n from all that a moving node
+  // (swept box s, shape) reaches over the interval: the face's projection onto n is the range
+  // of its vertices' projections (kept with the scene), the node's one of
+  // - an inner node: its posed body box cw + L [-h, h] moved by at most s.pad along each axis,
+  //   n.cw +- (|L^T n|.h + |n|.s.pad) (the box's own extent along n, not that of its world box
+  //   cw +- (|L| h + s.pad), which a turned box overstates by up to sqrt 3);
+  // - a triangle: its vertices at the middle, each moved by at most s.pad along each axis, plus
+  //   the contact distance (margin_, added to the box by triangleBox), the range of n.mid_k
+  //   widened by |n|.(s.pad + margin_).
+  // A gap along n means no contact there with the node or any node under it, on the interval or
+  // any part of it (it is applied to the static leaves met by inner nodes and waiting triangles;
+  // the face tests of candidate cover the rest). Rounding: cw, L^T n and the dot products are
+  // within a few 2^-53 of magnitudes |cw| + |L| |h| and mag (mag bounds the static coordinates and
+  // the moving vertices at the middle); a node's pad holds kRound of those on every axis (see
+  // nodeBox), and the margin 1e-12 (mag + size) the rest.
+  bool planeApart(const Swept& s, const Shape& shape, unsigned g, double mag) const {
     const Vec& nv = st_.normal[g];
-    const Vec c = 0.5 * (s.lo + s.hi), h = 0.5 * (s.hi - s.lo);
-    const double pc = nv.dot(c), ph = nv.cwiseAbs().dot(h);
+    double lo, hi;
+    if (shape.L) {
+      const double pc = nv.dot(shape.cw);
+      const double ph = (shape.L->transpose() * nv).cwiseAbs().dot(shape.h) + nv.cwiseAbs().dot(s.pad);
+      lo = pc - ph;
+      hi = pc + ph;
+    } else {
+      const MovingTriangle& t = *shape.t;
+      const double a0 = nv.dot(t.mid[0]), a1 = nv.dot(t.mid[1]), a2 = nv.dot(t.mid[2]);
+      const double grow = nv.cwiseAbs().dot(s.pad + Vec::Constant(margin_));
+      lo = std::min({a0, a1, a2}) - grow;
+      hi = std::max({a0, a1, a2}) + grow;
+    }
     const double e = 1e-12 * (mag + s.size);
-    return pc - ph > st_.plane_range[g][1] + e || st_.plane_range[g][0] > pc + ph + e;
+    return lo > st_.plane_range[g][1] + e || st_.plane_range[g][0] > hi + e;
   }
 
   // Whether moving triangle t (placed on the current interval, swept box s) stays apart from
@@ -659,10 +685,17 @@ class TreeQuery {
       const BodyNode& n = body_.nodes[e.node];
       MovingTriangle t;
       const bool leaf = n.left < 0;
-      const Swept s = leaf ? triangleBox(sc, f, e.node, t) : nodeBox(sc, f, n);
+      Shape shape;
+      if (leaf) {
+        shape.t = &t;
+      } else {
+        shape.L = &f.P.linear();
+        shape.h = n.h;
+      }
+      const Swept s = leaf ? triangleBox(sc, f, e.node, t) : nodeBox(sc, f, n, shape.cw);
       const bool halve = can_halve && s.path > waitBound(n, s.rho, f);
       const auto mark = static_cast<unsigned>(pool.size());
-      filterStatic(s, f.mag, e.begin, e.end, leaf && !halve, pool);
+      filterStatic(s, shape, f.mag, e.begin, e.end, leaf && !halve, pool);
       const auto stop = static_cast<unsigned>(pool.size());
       if (stop == mark) continue;
       if (halve) {
