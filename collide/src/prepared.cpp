@@ -577,6 +577,16 @@ class TreeQuery {
     return std::max(a, best_->span_time);
   }
 
+  // The range of n . mid_k over the corners of moving triangle t (placed at the middle of an
+  // interval), widened by grow on both sides: with grow >= |n|.pad, it holds the triangle's
+  // projection over the whole interval (each corner stays within mid_k +- pad, and the
+  // triangle's points are convex combinations of its corners).
+  static void cornerRange(const MovingTriangle& t, const Vec& n, double grow, double& lo, double& hi) {
+    const double a0 = n.dot(t.mid[0]), a1 = n.dot(t.mid[1]), a2 = n.dot(t.mid[2]);
+    lo = std::min({a0, a1, a2}) - grow;
+    hi = std::max({a0, a1, a2}) + grow;
+  }
+
   // Whether static face g stays apart along its unit normal n from all that a moving node
   // (swept box s, shape) reaches over the interval: the face's projection onto n is the range
   // of its vertices' projections (kept with the scene), the node's one of
@@ -601,11 +611,7 @@ class TreeQuery {
       lo = pc - ph;
       hi = pc + ph;
     } else {
-      const MovingTriangle& t = *shape.t;
-      const double a0 = nv.dot(t.mid[0]), a1 = nv.dot(t.mid[1]), a2 = nv.dot(t.mid[2]);
-      const double grow = nv.cwiseAbs().dot(s.pad + Vec::Constant(margin_));
-      lo = std::min({a0, a1, a2}) - grow;
-      hi = std::max({a0, a1, a2}) + grow;
+      cornerRange(*shape.t, nv, nv.cwiseAbs().dot(s.pad + Vec::Constant(margin_)), lo, hi);
     }
     const double e = 1e-12 * (mag + s.size);
     return lo > st_.plane_range[g][1] + e || st_.plane_range[g][0] > hi + e;
@@ -629,9 +635,9 @@ class TreeQuery {
     auto apart = [&](const Vec& n) {
       const Vec na = n.cwiseAbs();
       const double grow = na.dot(s.pad) + extra * (na.x() + na.y() + na.z());
-      const double a0 = n.dot(t.mid[0]), a1 = n.dot(t.mid[1]), a2 = n.dot(t.mid[2]);
+      double amin, amax;
+      cornerRange(t, n, grow, amin, amax);
       const double b0 = n.dot(*q[0]), b1 = n.dot(*q[1]), b2 = n.dot(*q[2]);
-      const double amin = std::min({a0, a1, a2}) - grow, amax = std::max({a0, a1, a2}) + grow;
       const double bmin = std::min({b0, b1, b2}), bmax = std::max({b0, b1, b2});
       return amin > bmax || bmin > amax;
     };
