@@ -272,8 +272,34 @@ void solveTrianglePair(const SceneData& st, const PairSpan& ps, const MovingTria
     const double near = margin + 1e-12 * (mlo.cwiseAbs().cwiseMax(mhi.cwiseAbs()).maxCoeff() +
                                           slo.cwiseAbs().cwiseMax(shi.cwiseAbs()).maxCoeff());
     const double R = std::max({m.rad[0], m.rad[1], m.rad[2]});
+    // Plane culling, cheaper than those distances and implied by them: the static face lies in
+    // the slab [lo, hi] of its plane_range along its unit normal ns, and the moving triangle
+    // over the interval within R of its middle triangle, whose own extent along the direction
+    // nm (its normal as computed: any direction of length at most 1 + 1e-15 would do, as the
+    // extent is measured, not assumed) is [mid_lo, mid_hi]. A point farther than r (plus near)
+    // from a slab, along its direction, is farther than r from everything in it; so is a
+    // segment whose two ends are, on the same side. Per moving vertex: its place outside the
+    // static slab (above, below); per static vertex: outside the moving one.
+    const Vec& ns = st.normal[g];
+    const auto& range = st.plane_range[g];
+    double above[3], below[3];
+    for (int k = 0; k < 3; ++k) {
+      const double d = ns.dot(m.mid[k]);
+      above[k] = d - range[1];
+      below[k] = range[0] - d;
+    }
+    const Vec nm = (m.mid[1] - m.mid[0]).cross(m.mid[2] - m.mid[0]).normalized();  // (0 when degenerate)
+    const double p0 = nm.dot(m.mid[0]), p1 = nm.dot(m.mid[1]), p2 = nm.dot(m.mid[2]);
+    const double mid_lo = std::min({p0, p1, p2}), mid_hi = std::max({p0, p1, p2});
+    double s_above[3], s_below[3];
+    for (int k = 0; k < 3; ++k) {
+      const double d = nm.dot(st.V[sf[k]]);
+      s_above[k] = d - mid_hi;
+      s_below[k] = mid_lo - d;
+    }
     // Moving vertices against the static face's plane.
     for (int k = 0; k < 3; ++k) {
+      if (above[k] > m.rad[k] + near || below[k] > m.rad[k] + near) continue;
       Vec vlo, vhi;
       ballBox({k}, vlo, vhi);
       if (apart(vlo, vhi, slo, shi)) continue;
@@ -298,6 +324,7 @@ void solveTrianglePair(const SceneData& st, const PairSpan& ps, const MovingTria
     const Vec n0 = (m.W0[1] - m.W0[0]).cross(m.W0[2] - m.W0[0]);
     const double h0 = n0.dot(m.W0[0]);
     for (int k = 0; k < 3; ++k) {
+      if (s_above[k] > R + near || s_below[k] > R + near) continue;
       if (apart(st.V[sf[k]], st.V[sf[k]], mlo, mhi)) continue;
       if ((st.V[sf[k]] - closestOnTriangle(st.V[sf[k]], m.mid[0], m.mid[1], m.mid[2])).norm() > R + near) continue;
       roots.clear();
@@ -322,10 +349,15 @@ void solveTrianglePair(const SceneData& st, const PairSpan& ps, const MovingTria
     // gets the same normal and crossing sign whichever triangles found it.
     for (int i = 0; i < 3; ++i) {
       const int ma = mf[i], mb = mf[(i + 1) % 3];
+      const int i1 = (i + 1) % 3;
+      const double ri = std::max(m.rad[i], m.rad[i1]) + near;
+      if ((above[i] > ri && above[i1] > ri) || (below[i] > ri && below[i1] > ri)) continue;
       Vec elo, ehi;
-      ballBox({i, (i + 1) % 3}, elo, ehi);
+      ballBox({i, i1}, elo, ehi);
       for (int j = 0; j < 3; ++j) {
         const int sa = sf[j], sb = sf[(j + 1) % 3];
+        const int j1 = (j + 1) % 3;
+        if ((s_above[j] > R + near && s_above[j1] > R + near) || (s_below[j] > R + near && s_below[j1] > R + near)) continue;
         if (apart(elo, ehi, st.V[sa].cwiseMin(st.V[sb]), st.V[sa].cwiseMax(st.V[sb]))) continue;
         Vec cp0, cq0;
         if (segmentDistance(m.mid[i], m.mid[(i + 1) % 3], st.V[sa], st.V[sb], cp0, cq0) >
