@@ -348,27 +348,26 @@ void solveTrianglePair(const SceneData& st, const PairSpan& ps, const MovingTria
     // both edges taken from their smaller vertex index to the larger, so that one feature pair
     // gets the same normal and crossing sign whichever triangles found it.
     for (int i = 0; i < 3; ++i) {
-      const int ma = mf[i], mb = mf[(i + 1) % 3];
       const int i1 = (i + 1) % 3;
+      const int ma = mf[i], mb = mf[i1];
       const double ri = std::max(m.rad[i], m.rad[i1]) + near;
       if ((above[i] > ri && above[i1] > ri) || (below[i] > ri && below[i1] > ri)) continue;
       Vec elo, ehi;
       ballBox({i, i1}, elo, ehi);
       for (int j = 0; j < 3; ++j) {
-        const int sa = sf[j], sb = sf[(j + 1) % 3];
         const int j1 = (j + 1) % 3;
+        const int sa = sf[j], sb = sf[j1];
         if ((s_above[j] > R + near && s_above[j1] > R + near) || (s_below[j] > R + near && s_below[j1] > R + near)) continue;
         if (apart(elo, ehi, st.V[sa].cwiseMin(st.V[sb]), st.V[sa].cwiseMax(st.V[sb]))) continue;
         Vec cp0, cq0;
-        if (segmentDistance(m.mid[i], m.mid[(i + 1) % 3], st.V[sa], st.V[sb], cp0, cq0) >
-            std::max(m.rad[i], m.rad[(i + 1) % 3]) + near)
+        if (segmentDistance(m.mid[i], m.mid[i1], st.V[sa], st.V[sb], cp0, cq0) > ri)
           continue;
         roots.clear();
         ++stats.feature_solves;
-        ps.fwd->edgeEdge(m.W0[i], m.W0[(i + 1) % 3], st.V[sa], st.V[sb], a, hi, roots);
+        ps.fwd->edgeEdge(m.W0[i], m.W0[i1], st.V[sa], st.V[sb], a, hi, roots);
         for (const ContactRoot& r : roots) {
           const Affine3 Pt = ps.fwd->power(r.t);
-          const Vec x0 = Pt.applyPoint(m.W0[i]), x1 = Pt.applyPoint(m.W0[(i + 1) % 3]);
+          const Vec x0 = Pt.applyPoint(m.W0[i]), x1 = Pt.applyPoint(m.W0[i1]);
           Vec cp, cq;
           const double scale = x0.cwiseAbs().maxCoeff() + (x1 - x0).norm() + st.V[sa].cwiseAbs().maxCoeff() +
                                (st.V[sb] - st.V[sa]).norm();

@@ -592,7 +592,8 @@ class TreeQuery {
   // of its vertices' projections (kept with the scene), the node's one of
   // - an inner node: its posed body box cw + L [-h, h] moved by at most s.pad along each axis,
   //   n.cw +- (|L^T n|.h + |n|.s.pad) (the box's own extent along n, not that of its world box
-  //   cw +- (|L| h + s.pad), which a turned box overstates by up to sqrt 3);
+  //   cw +- (|L| h + s.pad), which a turned box overstates: a cube turned 45 degrees about z,
+  //   measured along the diagonal of x and y, spans h there against 2 h for its world box);
   // - a triangle: its vertices at the middle, each moved by at most s.pad along each axis, plus
   //   the contact distance (margin_, added to the box by triangleBox), the range of n.mid_k
   //   widened by |n|.(s.pad + margin_).
