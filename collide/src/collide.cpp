@@ -291,11 +291,17 @@ void solveTrianglePair(const SceneData& st, const PairSpan& ps, const MovingTria
     const Vec nm = (m.mid[1] - m.mid[0]).cross(m.mid[2] - m.mid[0]).normalized();  // (0 when degenerate)
     const double p0 = nm.dot(m.mid[0]), p1 = nm.dot(m.mid[1]), p2 = nm.dot(m.mid[2]);
     const double mid_lo = std::min({p0, p1, p2}), mid_hi = std::max({p0, p1, p2});
+    const double reach = R + near;  // (the moving triangle's reach over the interval, plus contact distance and rounding)
     double s_above[3], s_below[3];
     for (int k = 0; k < 3; ++k) {
       const double d = nm.dot(st.V[sf[k]]);
       s_above[k] = d - mid_hi;
       s_below[k] = mid_lo - d;
+    }
+    bool s_edge_off[3];  // per static edge j -> j + 1: both ends beyond the moving slab, on one side
+    for (int j = 0; j < 3; ++j) {
+      const int j1 = (j + 1) % 3;
+      s_edge_off[j] = (s_above[j] > reach && s_above[j1] > reach) || (s_below[j] > reach && s_below[j1] > reach);
     }
     // Moving vertices against the static face's plane.
     for (int k = 0; k < 3; ++k) {
@@ -324,9 +330,9 @@ void solveTrianglePair(const SceneData& st, const PairSpan& ps, const MovingTria
     const Vec n0 = (m.W0[1] - m.W0[0]).cross(m.W0[2] - m.W0[0]);
     const double h0 = n0.dot(m.W0[0]);
     for (int k = 0; k < 3; ++k) {
-      if (s_above[k] > R + near || s_below[k] > R + near) continue;
+      if (s_above[k] > reach || s_below[k] > reach) continue;
       if (apart(st.V[sf[k]], st.V[sf[k]], mlo, mhi)) continue;
-      if ((st.V[sf[k]] - closestOnTriangle(st.V[sf[k]], m.mid[0], m.mid[1], m.mid[2])).norm() > R + near) continue;
+      if ((st.V[sf[k]] - closestOnTriangle(st.V[sf[k]], m.mid[0], m.mid[1], m.mid[2])).norm() > reach) continue;
       roots.clear();
       ++stats.feature_solves;
       ps.inv->pointPlane(st.V[sf[k]], n0, h0, a, hi, roots);
@@ -357,7 +363,7 @@ void solveTrianglePair(const SceneData& st, const PairSpan& ps, const MovingTria
       for (int j = 0; j < 3; ++j) {
         const int j1 = (j + 1) % 3;
         const int sa = sf[j], sb = sf[j1];
-        if ((s_above[j] > R + near && s_above[j1] > R + near) || (s_below[j] > R + near && s_below[j1] > R + near)) continue;
+        if (s_edge_off[j]) continue;
         if (apart(elo, ehi, st.V[sa].cwiseMin(st.V[sb]), st.V[sa].cwiseMax(st.V[sb]))) continue;
         Vec cp0, cq0;
         if (segmentDistance(m.mid[i], m.mid[i1], st.V[sa], st.V[sb], cp0, cq0) > ri)
