@@ -12,6 +12,7 @@ const char* to_string(ErrorCode code) noexcept {
     case ErrorCode::InvalidArgument: return "invalid-argument";
     case ErrorCode::InvalidFile: return "invalid-file";
     case ErrorCode::Io: return "io";
+    case ErrorCode::Cancelled: return "cancelled";
   }
   return "unknown";
 }

@@ -18,6 +18,7 @@ enum class ErrorCode {
   InvalidArgument,     ///< an argument outside its documented range
   InvalidFile,         ///< a file's content is malformed (the message gives its path inside the file)
   Io,                  ///< a file could not be read or written (the message names it and why)
+  Cancelled,           ///< the caller asked a long operation to stop (e.g. SweepOptions::cancel); it returned nothing
 };
 
 /// Short stable name of a code ("no-real-log", ...), usable in JSON and logs.
