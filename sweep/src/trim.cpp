@@ -109,19 +109,64 @@ double seconds(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// Cancellation (SweepOptions::cancel). The flag of the sweep that runs on this thread and the
+// stage it last reported, set by the public entry points for their duration (CancelScope);
+// parallelFor reads both on the calling thread and checks the flag before each work item on
+// every thread, and progress() checks it before each report, so the stages need not pass the
+// flag along. A check that finds it set throws Error(Cancelled), saying where; out of a parallel
+// loop, TBB cancels the other items and rethrows it on the calling thread.
+thread_local const std::atomic<bool>* sweep_cancel = nullptr;
+thread_local const char* sweep_stage = nullptr;
+void checkCancel(const std::atomic<bool>* flag, const char* stage, const char* where) {
+  if (flag && flag->load(std::memory_order_relaxed))
+    throw Error(ErrorCode::Cancelled, std::string("the sweep was cancelled (SweepOptions::cancel was set) ") +
+                                          (stage ? std::string("in its ") + stage + " stage, " : std::string()) +
+                                          where + "; it returned nothing: call it again to start over");
+}
+class CancelScope {
+ public:
+  explicit CancelScope(const std::atomic<bool>* flag) : flag_(sweep_cancel), stage_(sweep_stage) {
+    sweep_cancel = flag;
+    sweep_stage = nullptr;
+    checkCancel(flag, nullptr, "before it began");
+  }
+  ~CancelScope() { sweep_cancel = flag_, sweep_stage = stage_; }
+  CancelScope(const CancelScope&) = delete;
+  CancelScope& operator=(const CancelScope&) = delete;
+
+ private:
+  const std::atomic<bool>* flag_;
+  const char* stage_;
+};
+// Reports progress (SweepOptions::progress) after a cancellation check: no report follows a
+// cancellation. (A flag that the callback sets is found by the next check: the next report or
+// work item.)
+void progress(const SweepOptions& options, const char* stage, double fraction) {
+  checkCancel(sweep_cancel, sweep_stage, "at a progress report");
+  sweep_stage = stage;
+  if (options.progress) options.progress({stage, fraction});
+}
+
+// A cancellation check between two serial steps of a stage.
+void checkpoint() { checkCancel(sweep_cancel, sweep_stage, "between two of its steps"); }
+
 // Calls fn(i) for every i in [begin, end): on the calling thread alone when `threads` is 1,
 // otherwise in parallel on `threads` threads (0: as many as the hardware has). fn must be safe
-// to run concurrently for different i.
+// to run concurrently for different i. Each call is preceded by a cancellation check (a relaxed
+// load: no measurable cost).
 template <class Fn>
 void parallelFor(std::size_t begin, std::size_t end, int threads, Fn&& fn) {
+  const std::atomic<bool>* const cancel = sweep_cancel;
+  const char* const stage = sweep_stage;
+  const char* const where = "between two work items of a parallel step";
   if (threads == 1 || end - begin < 2) {
-    for (std::size_t i = begin; i < end; ++i) fn(i);
+    for (std::size_t i = begin; i < end; ++i) checkCancel(cancel, stage, where), fn(i);
     return;
   }
   tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
   arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end), [&](const tbb::blocked_range<std::size_t>& r) {
-      for (std::size_t i = r.begin(); i != r.end(); ++i) fn(i);
+      for (std::size_t i = r.begin(); i != r.end(); ++i) checkCancel(cancel, stage, where), fn(i);
     });
   });
 }
@@ -1107,6 +1152,7 @@ class DyadicPairs {
 
 Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPosition>& X,
                     const std::vector<Tri>& T0, const SweepOptions& options) {
+  progress(options, "intersect", 0.0);
   // Exact positions of the vertices; equal positions are merged (-0 and +0 alike), degenerate
   // triangles dropped. Points that are not doubles (cap points placed exactly in posed faces'
   // planes, see detail::ExactPosition) are flagged: tests that involve them use DyadicPairs.
@@ -1128,6 +1174,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
     std::unordered_map<std::array<double, 3>, int, Hash> seen;
     std::map<std::array<CGAL::Mpzf, 3>, int> seen_exact;
     for (std::size_t i = 0; i < V.size(); ++i) {
+      if (i % 65536 == 65535) checkpoint();  // (a long serial loop: 0.6 s on the bracket along keys.json at 1e-4)
       std::array<double, 3> key{{V[i].x() + 0.0, V[i].y() + 0.0, V[i].z() + 0.0}};
       const detail::ExactPosition& x = X[i];
       if (x.a >= 0) {
@@ -1174,6 +1221,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
       id[i] = it->second;
     }
   }
+  checkpoint();
   auto plain = [&](const Tri& t) { return !inexact[t[0]] && !inexact[t[1]] && !inexact[t[2]]; };
   std::vector<Tri> T;
   T.reserve(T0.size());
@@ -1208,6 +1256,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   const DoublePlanes planes(out.approx, T, &inexact, pad);
   // Pairs with inexact corners are decided in Mpzf (DyadicPairs).
   const DyadicPairs dyadic(out.approx, ep, std::move(exact_index), std::move(exact_points));
+  checkpoint();
   const auto pairs = crossingPairs(out.approx, pad, T, options.threads, [&](int i, int j) {
     if (planes.apart(i, j)) return false;
     if (plain(T[i]) && plain(T[j])) return crosses(ip, T[i], T[j]);
@@ -1375,8 +1424,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   });
   for (std::size_t k = 0; k < pairs.size(); ++k) {
     const auto [i, j] = pairs[k];
-    if (options.progress && (k + 1) % 4096 == 0)
-      options.progress({"intersect", 0.5 * static_cast<double>(k + 1) / static_cast<double>(pairs.size())});
+    if ((k + 1) % 4096 == 0) progress(options, "intersect", 0.5 * static_cast<double>(k + 1) / static_cast<double>(pairs.size()));
     const Crossing& cr = crossing[k];
     Constraint c{-1, -1};
     if (cr.kind == 1)
@@ -1579,8 +1627,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   std::vector<Retriangulation> block;
   FlatTable<Name, NameHash> named;
   for (std::size_t t0 = 0; t0 < T.size(); t0 += kBlock) {
-    if (options.progress)
-      options.progress({"intersect", 0.5 + 0.5 * static_cast<double>(t0) / static_cast<double>(T.size())});
+    progress(options, "intersect", 0.5 + 0.5 * static_cast<double>(t0) / static_cast<double>(T.size()));
     const std::size_t t1 = std::min(T.size(), t0 + kBlock);
     block.assign(t1 - t0, Retriangulation());
     parallelFor(t0, t1, options.threads, [&](std::size_t t) {
@@ -1823,6 +1870,7 @@ std::vector<Step> crossEdges(const Arrangement& A, const std::vector<int>& patch
 }
 
 Labels label(const Arrangement& A, const SweepOptions& options) {
+  progress(options, "label", 0.0);
   const auto& P = A.points;
   const auto& T = A.faces;
   const std::size_t nf = T.size();
@@ -1891,6 +1939,7 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
   };
   std::vector<char> bad(np, 0), contradicted(np, 0);
   {
+    checkpoint();
     const std::vector<Step> steps = crossEdges(A, L.patch, sides, options.threads);
     sides = {};
     for (const Step& st : steps) {
@@ -2048,7 +2097,7 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
                     "sweptEnvelope: " + std::to_string(todo.size()) +
                         " patches of the swept surface could not be labelled (every ray met an edge); "
                         "this is a bug: please report it with the body and the motion");
-      if (options.progress) options.progress({"label", round == 0 ? 0.0 : 0.9});
+      progress(options, "label", round == 0 ? 0.5 : 0.9);  // (the rays; 0.0: the edge steps)
       // Rays in chunks (each holds exact points; a large sweep has hundreds of thousands).
       constexpr std::size_t kChunk = 1 << 16;
       std::vector<int> again;
@@ -5293,7 +5342,7 @@ Draft envelopeOf(detail::Cycle cycle, double eps, double eps_t, std::size_t span
 
   // Faces with w = 0 on one side and w >= 1 on the other, towards w = 0; one of each overlap.
   t0 = std::chrono::steady_clock::now();
-  if (options.progress) options.progress({"output", 0.0});
+  progress(options, "output", 0.0);
   std::vector<char> buried = buriedPatches(A, L, eps_t, inside_swept, options.threads);
   std::vector<char> crack = crackFaces(A, L, buried, eps_t, inside_swept, options.threads);
   // Crack walls joined across shared edges form regions, and buried patches hold faces of
@@ -5392,6 +5441,7 @@ Draft envelopeOf(detail::Cycle cycle, double eps, double eps_t, std::size_t span
   long mouths = 0;
   MouthMemory memory;  // (see fillMouths)
   for (int round = 0;; ++round) {
+    checkpoint();
     select();
     if (std::find(pocket.begin(), pocket.end(), 1) == pocket.end() && std::find(crack.begin(), crack.end(), 1) == crack.end() &&
         std::find(rim_out.begin(), rim_out.end(), 1) == rim_out.end())
@@ -5513,6 +5563,7 @@ Draft envelopeOf(detail::Cycle cycle, double eps, double eps_t, std::size_t span
   env.filling_depth_bound = filling_depths.bound;
   // Tips of three faces that poke into the swept volume give way to the triangle of their
   // neighbours (see fillBuriedDents).
+  checkpoint();
   env.buried_dents_filled =
       fillBuriedDents(env.vertices, env.triangles, eps_t, certify,
                       options.threads);
@@ -5529,9 +5580,11 @@ Draft envelopeOf(detail::Cycle cycle, double eps, double eps_t, std::size_t span
     env.rounding_merged = snap ? detail::snapVertices(env.vertices, env.triangles) : 0;
     // Cavities before pinches: splitting an envelope that is not closed can cut open pieces of
     // its outer surface loose, whose volume sign means nothing.
+    checkpoint();
     const auto thin = dropThinShells(env.triangles, eps, env.vertices, options.threads);
     env.thin_cavities_removed = thin[0];
     env.thin_solids_removed = thin[1];
+    checkpoint();
     const std::size_t copies = splitPinchedVertices(env.vertices, env.triangles, options.threads);
     // Splitting closes pockets that touched the surface along an edge into shells of their own.
     const auto sealed = dropThinShells(env.triangles, eps, env.vertices, options.threads);
@@ -5550,6 +5603,7 @@ Draft envelopeOf(detail::Cycle cycle, double eps, double eps_t, std::size_t span
       env.pinches_touching = detail::separatePinches(env.vertices, env.triangles, eps, options.threads);
     }
     // the vertices of the kept walls and of the inner shells, to certify (see certifyDepths)
+    checkpoint();
     draft.kept = verticesNear(env.vertices, kept_points, kKeptMatch * eps);
     draft.cavity = innerShellVertices(env.vertices, env.triangles, options.threads);
     certifyDepths(draft, swept, options.threads, cap);
@@ -5561,6 +5615,7 @@ Draft envelopeOf(detail::Cycle cycle, double eps, double eps_t, std::size_t span
 
     t0 = std::chrono::steady_clock::now();
     env.rounding_slivers_flipped = 0;
+    checkpoint();
     computeCheck(env.check, env.vertices, env.triangles, options.check, options.threads);
     if (env.check.self_intersections > 0) {
       // Cap slivers of rounding (slivers.hpp), flipped away only from an envelope that fails its
@@ -5603,7 +5658,7 @@ Draft envelopeOf(detail::Cycle cycle, double eps, double eps_t, std::size_t span
   env.area = env.check.area;
   env.timings.check = seconds(t0);
   env.timings.total = seconds(t_start);
-  if (options.progress) options.progress({"output", 1.0});
+  progress(options, "output", 1.0);
   return draft;
 }
 
@@ -5696,7 +5751,8 @@ Envelope sweepWithRefinements(const SweepOptions& options, double eps, std::size
     Draft next;
     try {
       next = sweep(eps_t, cap);
-    } catch (const Error&) {
+    } catch (const Error& e) {
+      if (e.code() == ErrorCode::Cancelled) throw;  // (not a re-sweep that failed: the caller asked to stop)
       break;
     }
     refine = refinedSpans(next, spans, eps, cap);
@@ -5766,6 +5822,7 @@ Envelope detail::sweptEnvelope(const Body& body, const Motion3& motion, const Sw
                                std::size_t doubt_cap) {
   const auto t_start = std::chrono::steady_clock::now();
   if (doubt_cap < 1) throw Error(ErrorCode::InvalidArgument, "detail::sweptEnvelope: doubt_cap must be >= 1");
+  const CancelScope scope(options.cancel);
   const double eps = resolveTolerance(body, options);
   const std::size_t n = motion.spanCount();
   const SweptVolume swept(body, motion);
@@ -5789,7 +5846,7 @@ Envelope detail::sweptEnvelope(const Body& body, const Motion3& motion, const Sw
     // exactly on the swept volume).
     detail::SpanPlanPtr before, here, after;
     for (std::size_t i = 0; i < n; ++i) {
-      if (options.progress) options.progress({"cycle", static_cast<double>(i) / static_cast<double>(n)});
+      progress(options, "cycle", static_cast<double>(i) / static_cast<double>(n));
       if (!repeated[i]) {
         if (!here) here = plan(i);
         after = i + 1 < n && !repeated[i + 1] ? plan(i + 1) : nullptr;
@@ -5829,13 +5886,14 @@ Envelope sweptEnvelope(const Body& body, const Motion3& motion, const SweepOptio
 
 Envelope sweptEnvelope(const Body& body, const Span3& span, const SweepOptions& options) {
   const auto t_start = std::chrono::steady_clock::now();
+  const CancelScope scope(options.cancel);
   const double eps = resolveTolerance(body, options);
   const SweptVolume swept(body, span);
   return sweepWithRefinements(options, eps, 1, swept, t_start, detail::kDoubtCap, [&](const std::vector<double>& eps_t,
                                                                                       std::size_t cap) {
     const auto t_cycle = std::chrono::steady_clock::now();
     detail::Cycle cycle;
-    if (options.progress) options.progress({"cycle", 0.0});
+    progress(options, "cycle", 0.0);
     detail::appendSpanCycle(cycle, nullptr,
                             *detail::planSpan(body, span, nullptr, eps_t[0], options.grazing, options.max_steps, 0),
                             nullptr);

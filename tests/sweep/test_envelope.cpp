@@ -30,6 +30,7 @@
 #include <gtest/gtest-spi.h>
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <string>
@@ -1311,6 +1312,79 @@ TEST(Envelope, DoubtfulEnvelopesAreSweptAgain) {
                 c.name, first.kept_wall_uncertified.size(), first.kept_wall_faces_uncertified.size(), env.resweeps,
                 env.tolerance / env.tessellation_tolerance, env.spans_refined, env.spans, env.kept_wall_vertices);
   }
+}
+
+// SweepOptions::cancel. A flag set before the call stops it at once (no progress reported);
+// set from the progress callback at the first report of each stage (on one thread and on two),
+// it stops the sweep before the next report, in that stage. The report that opens the output
+// stage is followed by parallel loops only (probes, mouth fillings) until the stage's closing
+// report, so there the sweep must stop between two work items, as the message says. (Without
+// the checks in the loops it stops at the closing report, and the message says so.)
+TEST(Envelope, CancelStopsTheSweepAtItsNextCheck) {
+  EXPECT_STREQ(steady::to_string(ErrorCode::Cancelled), "cancelled");
+  const Body body = makeBody(bundledBracket());
+  const Motion3 motion = single(Affine3(), bracketQuarterTurn());
+  {
+    std::atomic<bool> flag{true};
+    SweepOptions o;
+    o.cancel = &flag;
+    int reports = 0;
+    o.progress = [&](const steady::sweep::SweepProgress&) { ++reports; };
+    EXPECT_TRUE(throwsError([&] { sweptEnvelope(body, motion, o); }, ErrorCode::Cancelled, "cancelled .*before it began"));
+    EXPECT_TRUE(throwsError([&] { sweptEnvelope(body, motion.span(0), o); }, ErrorCode::Cancelled, "before it began"));
+    EXPECT_EQ(reports, 0);
+  }
+  for (const int threads : {1, 2})
+    for (const std::string stage : {"cycle", "intersect", "label", "output"}) {
+      const std::string what = stage + " on " + std::to_string(threads) + " thread(s)";
+      std::atomic<bool> flag{false};
+      SweepOptions o;
+      o.threads = threads;
+      o.cancel = &flag;
+      std::vector<std::string> after;  // (the reports that came after the flag was set)
+      o.progress = [&](const steady::sweep::SweepProgress& p) {
+        if (flag) after.push_back(std::string(p.stage) + " " + std::to_string(p.fraction));
+        if (p.stage == stage) flag = true;
+      };
+      const std::string where = stage == "output" ? "output stage, between two work items" : stage + " stage";
+      EXPECT_TRUE(throwsError([&] { sweptEnvelope(body, motion, o); }, ErrorCode::Cancelled, "cancelled .*in its " + where))
+          << what;
+      EXPECT_TRUE(after.empty()) << what << ": went on to " << after.front();
+    }
+}
+
+// A cancellation during a re-sweep is not a re-sweep that failed (which ends the series with
+// the envelopes before it): the call throws, it does not return the first sweep's envelope. The
+// torus screw of DoubtfulEnvelopesAreSweptAgain, cancelled as its re-sweep starts its cycle.
+TEST(Envelope, CancelDuringAReSweepThrows) {
+  const Mesh m = torus(0.7, 0.25, 12, 6);
+  const Motion3 motion = resweptScrewMotion();
+  std::atomic<bool> flag{false};
+  SweepOptions o;
+  o.relative_tolerance = 1e-3;
+  o.cancel = &flag;
+  int cycles = 0;
+  o.progress = [&](const steady::sweep::SweepProgress& p) {
+    if (std::string(p.stage) == "cycle" && ++cycles == 2) flag = true;
+  };
+  EXPECT_TRUE(throwsError([&] { sweptEnvelope(makeBody(m), motion, o); }, ErrorCode::Cancelled, "cancelled"));
+  EXPECT_EQ(cycles, 2) << "the first sweep left no doubt: no re-sweep to cancel, pick another case";
+}
+
+// A flag that stays false changes nothing: the same envelope, bit for bit, on two threads.
+TEST(Envelope, CancelFlagLeftFalseChangesNothing) {
+  const Body body = makeBody(bundledBracket());
+  const Motion3 motion = single(Affine3(), bracketQuarterTurn());
+  SweepOptions plain;
+  plain.threads = 2;
+  const Envelope a = sweptEnvelope(body, motion, plain);
+  std::atomic<bool> flag{false};
+  SweepOptions o = plain;
+  o.cancel = &flag;
+  const Envelope b = sweptEnvelope(body, motion, o);
+  expectSameEnvelope(a, b, "with a cancel flag left false");
+  EXPECT_EQ(b.buried_patches_removed, a.buried_patches_removed);
+  EXPECT_EQ(b.crack_faces_removed, a.crack_faces_removed);
 }
 
 // Along a motion of many spans a re-sweep refines only the spans near the points the sweep

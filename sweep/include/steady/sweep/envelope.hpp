@@ -46,6 +46,7 @@
 #include <Eigen/Core>
 
 #include <array>
+#include <atomic>
 #include <cstddef>
 #include <functional>
 #include <optional>
@@ -86,6 +87,19 @@ struct SweepOptions {
   /// Called now and then from the calling thread (at most about a hundred times per sweep; a
   /// re-sweep reports its stages again from the start); may be empty.
   std::function<void(const SweepProgress&)> progress;
+  /// A flag to stop the sweep early (may be null). Once `*cancel` is true, set from any thread
+  /// (a user interface, a signal handler: storing to a lock-free atomic is safe there), or from
+  /// `progress`, sweptEnvelope() throws steady::Error with ErrorCode::Cancelled at its next
+  /// check instead of returning (the message names the stage); nothing it computed is kept, and
+  /// a later call starts over. The checks come before each progress report (none follows a
+  /// cancellation), between the serial steps of the stages and between the work items of the
+  /// parallel steps (whatever `threads` is), so the sweep stops within a few hundredths of its
+  /// running time: on the elephant screw at 1e-3, a 2.1 s sweep, 33 ms on average and 57 ms at
+  /// most from the flag to the caller's catch, unwinding included, over flags set at nine
+  /// points of the sweep; on bunny00's, 10.8 s, 206 ms and 297 ms (BM_SweepCancel in bench/). A flag that stays false changes nothing:
+  /// the envelope is the same, bit for bit. The flag is only read: resetting it is the
+  /// caller's business.
+  const std::atomic<bool>* cancel = nullptr;
   /// Re-sweeps allowed when the envelope leaves doubt: its check fails, or some of its vertices
   /// or face centroids on kept walls or inner shells are not certified within ε
   /// (Envelope::kept_wall_uncertified, kept_wall_faces_uncertified, cavity_uncertified,
