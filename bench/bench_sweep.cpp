@@ -37,6 +37,14 @@
 //                                           either way along it), `box`, uniform in the box of
 //                                           65 posed bodies grown by 10% (counter inside: the
 //                                           share found inside)
+//   BM_SweepCancel/<mesh>/screw             how soon sweptEnvelope stops once SweepOptions::cancel
+//                                           is set from another thread: two full sweeps at eps 1e-3
+//                                           (the faster: sweep_s), then one per tenth of that time,
+//                                           the flag set at 0.1, 0.2, ..., 0.9 of it; counters
+//                                           latency_max_ms and latency_mean_ms (from the store
+//                                           until the exception reaches the caller, unwinding
+//                                           included), finished (sweeps that ended before the
+//                                           flag came: should be 0)
 //   BM_VdbSweep/<mesh>/<motion>/h<k>_N<n>   vdbSampledSweep with voxel size k x 1e-3 and n poses;
 //                                           N<auto> means samplesForStep(voxel): no vertex moves
 //                                           more than a voxel between two samples (settings:
@@ -82,6 +90,7 @@
 
 #include <Eigen/Geometry>
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -93,6 +102,7 @@
 #include <optional>
 #include <random>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -303,6 +313,60 @@ void BM_SteadySweep(benchmark::State& state, const std::string& mesh, bool screw
   errorCounters(state, b, [&](double t) { return span.pose(t); }, k, env.vertices, env.triangles, env.volume);
 }
 
+// Cancellation latency (see the file comment).
+void BM_SweepCancel(benchmark::State& state, const std::string& mesh) {
+  const SweepBody& b = sweepBody(mesh);
+  if (!b.body) {
+    state.SkipWithError(("invalid body: " + b.invalid).c_str());
+    return;
+  }
+  const steady::Span3 span = spanFor(true);
+  using Clock = std::chrono::steady_clock;
+  double full = 0, worst = 0, sum = 0;
+  int measured = 0, finished = 0;
+  for (auto _ : state) {
+    steady::sweep::SweepOptions options;
+    options.relative_tolerance = kEps;
+    full = HUGE_VAL;
+    for (int run = 0; run < 2; ++run) {  // (the faster of two: the later sweeps run warm)
+      const auto t0 = Clock::now();
+      steady::sweep::sweptEnvelope(*b.body, span, options);
+      full = std::min(full, std::chrono::duration<double>(Clock::now() - t0).count());
+    }
+    for (int k = 1; k <= 9; ++k) {
+      std::atomic<bool> flag{false};
+      options.cancel = &flag;
+      Clock::time_point set_at;
+      std::thread setter([&] {
+        std::this_thread::sleep_for(std::chrono::duration<double>(0.1 * k * full));
+        set_at = Clock::now();
+        flag = true;
+      });
+      bool cancelled = false;
+      try {
+        steady::sweep::sweptEnvelope(*b.body, span, options);
+      } catch (const steady::Error& e) {
+        if (e.code() != steady::ErrorCode::Cancelled) throw;
+        cancelled = true;
+      }
+      const auto stopped = Clock::now();
+      setter.join();
+      if (!cancelled) {
+        ++finished;
+        continue;
+      }
+      const double latency = std::chrono::duration<double>(stopped - set_at).count();
+      worst = std::max(worst, latency);
+      sum += latency;
+      ++measured;
+    }
+  }
+  state.counters["sweep_s"] = full;
+  state.counters["latency_max_ms"] = 1e3 * worst;
+  state.counters["latency_mean_ms"] = measured > 0 ? 1e3 * sum / measured : 0.0;
+  state.counters["finished"] = finished;
+}
+
 // The bundled polySAM (data/motions/keys.json) at eps 1e-3.
 void BM_SteadySweepMotion(benchmark::State& state, const std::string& mesh) {
   const SweepBody& b = sweepBody(mesh);
@@ -468,6 +532,13 @@ const bool registered = [] {
           benchmark::RegisterBenchmark(("BM_SweptContains/" + key(name, screw) + (boundary ? "/boundary" : "/box")).c_str(),
                                        BM_SweptContains, std::string(name), screw, boundary)
               ->Unit(benchmark::kMillisecond);
+  for (const char* name : {"elephant", "bunny00"})
+    if (std::ifstream(meshPath(name)).good())
+      benchmark::RegisterBenchmark((std::string("BM_SweepCancel/") + name + "/screw").c_str(), BM_SweepCancel,
+                                   std::string(name))
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime()
+          ->Iterations(1);
   for (const char* name : {"sphere", "elephant"})
     if (std::ifstream(meshPath(name)).good())
       benchmark::RegisterBenchmark((std::string("BM_SteadySweepMotion/") + name + "/keys").c_str(),
