@@ -23,6 +23,7 @@
 #include <chrono>
 #include <climits>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -623,6 +624,46 @@ class PendingFile {
   bool live_ = false;
 };
 
+// SIGINT and SIGTERM while `steady sweep` runs (see sweepCommand in commands.hpp): the handler
+// sets the sweep's cancel flag (a lock-free atomic: safe in a handler) and gives the signal its
+// default action back, so that a second one ends the process at once.
+std::atomic<bool> sweep_interrupted{false};
+static_assert(std::atomic<bool>::is_always_lock_free, "the signal handler stores to sweep_interrupted");
+volatile std::sig_atomic_t sweep_signal = 0;
+extern "C" void onSweepSignal(int sig) {
+  sweep_signal = sig;
+  sweep_interrupted.store(true);
+  std::signal(sig, SIG_DFL);
+}
+// Installs the handler for SIGINT and SIGTERM; the actions before it come back at the end.
+class SignalScope {
+ public:
+  SignalScope() {
+    sweep_interrupted.store(false);
+    sweep_signal = 0;
+    struct sigaction action {};
+    action.sa_handler = onSweepSignal;
+    sigemptyset(&action.sa_mask);
+    for (int k = 0; k < 2; ++k) ::sigaction(kSignals[k], &action, &before_[k]);
+  }
+  ~SignalScope() {
+    for (int k = 0; k < 2; ++k) ::sigaction(kSignals[k], &before_[k], nullptr);
+  }
+  SignalScope(const SignalScope&) = delete;
+  SignalScope& operator=(const SignalScope&) = delete;
+  // Throws Interrupted when a signal came; `stage` names where the run was.
+  static void check(const std::string& stage) {
+    if (!sweep_interrupted.load()) return;
+    const int sig = sweep_signal;
+    throw Interrupted(sig, std::string("the sweep was interrupted by ") + (sig == SIGTERM ? "SIGTERM" : "SIGINT") +
+                               " " + stage + "; nothing was written");
+  }
+
+ private:
+  static constexpr int kSignals[2] = {SIGINT, SIGTERM};
+  struct sigaction before_[2];
+};
+
 // A progress bar on standard error, drawn only when asked for (a terminal) and once the run
 // has taken a second; erased before the summary.
 class ProgressBar {
@@ -841,9 +882,21 @@ SweepOutput sweepCommand(const SweepRequest& request) {
   options.threads = request.threads;
   options.refinements = request.refinements;
   ProgressBar bar(request.progress, start);
-  options.progress = [&bar](const steady::sweep::SweepProgress& p) { bar.update(p); };
-  const steady::sweep::Envelope envelope =
-      withContext("the sweep: ", [&] { return steady::sweep::sweptEnvelope(*body, motion, options); });
+  std::string stage = "cycle";  // (the last stage reported, for the message of an interruption)
+  options.progress = [&bar, &stage](const steady::sweep::SweepProgress& p) {
+    stage = p.stage;
+    bar.update(p);
+  };
+  const SignalScope signals;  // (until the files are written)
+  options.cancel = &sweep_interrupted;
+  steady::sweep::Envelope envelope;
+  try {
+    envelope = withContext("the sweep: ", [&] { return steady::sweep::sweptEnvelope(*body, motion, options); });
+  } catch (const steady::Error& e) {
+    bar.clear();
+    if (e.code() == steady::ErrorCode::Cancelled) SignalScope::check("in its " + stage + " stage");
+    throw;
+  }
   bar.clear();
 
   // The report (complete before anything is written; the time of the writing is not in it).
@@ -937,6 +990,7 @@ SweepOutput sweepCommand(const SweepRequest& request) {
   const std::string report_text = formatJson(report);
 
   // The files: the report waits next to its place until the envelope is written.
+  SignalScope::check("after the sweep, before its files were written");
   std::optional<PendingFile> pending;
   if (report_file) pending.emplace(request.report, report_text, "the report");
   steady::io::TriangleMesh out;

@@ -20,6 +20,17 @@ class OutputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A run stopped by a signal (SIGINT or SIGTERM) before it wrote anything. The command-line
+/// tool exits with status 128 + signal(), as a shell reports a process that the signal ended.
+class Interrupted : public std::runtime_error {
+ public:
+  Interrupted(int signal, const std::string& what) : std::runtime_error(what), signal_(signal) {}
+  int signal() const noexcept { return signal_; }
+
+ private:
+  int signal_;
+};
+
 /// `steady pow`: {"case", "result" (A^t as rows of [L | t]), "log" {"M", "u"}}.
 std::string powCommand(const std::string& affinity, double t, int dim, const steady::EarOptions& options);
 
@@ -107,9 +118,14 @@ struct SweepOutput {
 /// atomically to `output`, with the report written atomically to `report` (or returned for
 /// standard output). On any failure neither file is written. The output paths are checked
 /// before the sweep starts.
+/// The first SIGINT or SIGTERM during the sweep or before its files are written stops it
+/// (SweepOptions::cancel) and restores the signal's default action, so that a second one ends
+/// the process at once; nothing is written then, not even a temporary file. A signal that
+/// comes once the files are being written lets them finish.
 /// @throws UsageError for bad arguments and for a body that is not a valid closed outward mesh
 ///   (the tag is the error code of the body validation, e.g. "degenerate-input"); OutputError
-///   when a file cannot be written; steady::Error for unreadable files and math errors.
+///   when a file cannot be written; Interrupted after a signal; steady::Error for unreadable
+///   files and math errors.
 SweepOutput sweepCommand(const SweepRequest& request);
 
 }  // namespace steady_cli

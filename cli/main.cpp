@@ -56,6 +56,8 @@ const char* const kOutputHelp =
     "  real logarithm, reflection, singular pose, overflow);\n"
     "  4 sweep only: the envelope was written but failed its own check (open, not manifold,\n"
     "  self-intersecting): do not use it as a solid;\n"
+    "  130, 143 sweep only: interrupted by SIGINT (Ctrl-C) or SIGTERM before its files were written:\n"
+    "  nothing was written (a second signal ends the process at once);\n"
     "  1 anything else (e.g. an output file that cannot be written). Errors are reported on standard\n"
     "  error as \"steady: error [<reason>]: <message>\" and nothing is printed on standard output.\n";
 
@@ -431,6 +433,8 @@ int main(int argc, char** argv) {
     return report(e.tag(), e.what(), 2);
   } catch (const steady_cli::OutputError& e) {
     return report("io", e.what(), 1);
+  } catch (const steady_cli::Interrupted& e) {
+    return report("interrupted", e.what(), 128 + e.signal());
   } catch (const steady::Error& e) {
     // A missing or malformed input file is an unreadable argument; the rest is math.
     const bool input = e.code() == steady::ErrorCode::InvalidFile || e.code() == steady::ErrorCode::Io;
