@@ -84,8 +84,10 @@ struct SweepOptions {
   /// calling thread alone. The envelope is the same, bit for bit, for any number and from run
   /// to run.
   int threads = 0;
-  /// Called now and then from the calling thread (at most about a hundred times per sweep; a
-  /// re-sweep reports its stages again from the start); may be empty.
+  /// Called now and then from the calling thread: once per span of the motion in the cycle
+  /// stage, every 4,096 crossing pairs and every 4,096 re-triangulated triangles of the
+  /// intersect stage, when the labels cast their rays, and at the start and end of the output
+  /// stage (a re-sweep reports its stages again from the start); may be empty.
   std::function<void(const SweepProgress&)> progress;
   /// A flag to stop the sweep early (may be null). Once `*cancel` is true, set from any thread
   /// (a user interface, a signal handler: storing to a lock-free atomic is safe there), or from
