@@ -1681,6 +1681,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
       }
     }
   }
+  checkpoint();
   mergeCoincident(out, options.threads);
   out.sources = std::move(T);
   return out;
@@ -1886,6 +1887,7 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
       const int a = T[f][c], b = T[f][(c + 1) % 3];
       sides.emplace_back(edgeKey(a, b), a < b ? static_cast<int>(f) + 1 : -static_cast<int>(f) - 1);
     }
+  checkpoint();  // (these serial steps take about 0.2 s each on bunny00's screw)
   bucketSort(sides, A.points.size(), [](const std::pair<std::uint64_t, int>& x) { return x.first >> 32; }, options.threads);
   std::vector<int> parent(nf);
   std::iota(parent.begin(), parent.end(), 0);
@@ -1894,6 +1896,7 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
     if (j - i == 2 && (sides[i].second > 0) != (sides[i + 1].second > 0))
       parent[findRoot(parent, std::abs(sides[i].second) - 1)] = findRoot(parent, std::abs(sides[i + 1].second) - 1);
   }
+  checkpoint();
   L.patch.assign(nf, -1);
   std::vector<int> rep;  // per patch: its largest face (approximate area)
   std::vector<double> rep_area;
