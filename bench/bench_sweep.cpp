@@ -95,6 +95,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <exception>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -343,14 +344,16 @@ void BM_SweepCancel(benchmark::State& state, const std::string& mesh) {
         flag = true;
       });
       bool cancelled = false;
+      std::exception_ptr other;  // (rethrown once the setter is joined)
       try {
         steady::sweep::sweptEnvelope(*b.body, span, options);
       } catch (const steady::Error& e) {
-        if (e.code() != steady::ErrorCode::Cancelled) throw;
-        cancelled = true;
+        cancelled = e.code() == steady::ErrorCode::Cancelled;
+        if (!cancelled) other = std::current_exception();
       }
       const auto stopped = Clock::now();
       setter.join();
+      if (other) std::rethrow_exception(other);
       if (!cancelled) {
         ++finished;
         continue;

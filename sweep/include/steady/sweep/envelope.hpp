@@ -98,9 +98,9 @@ struct SweepOptions {
   /// parallel steps (whatever `threads` is), so the sweep stops within a few hundredths of its
   /// running time: on the elephant screw at 1e-3, a 2.1 s sweep, 33 ms on average and 57 ms at
   /// most from the flag to the caller's catch, unwinding included, over flags set at nine
-  /// points of the sweep; on bunny00's, 10.8 s, 206 ms and 297 ms (BM_SweepCancel in bench/). A flag that stays false changes nothing:
-  /// the envelope is the same, bit for bit. The flag is only read: resetting it is the
-  /// caller's business.
+  /// points of the sweep; on bunny00's, 10.8 s, 206 ms and 297 ms (BM_SweepCancel in bench/).
+  /// A flag that stays false changes nothing: the envelope is the same, bit for bit. The flag
+  /// is only read: resetting it is the caller's business.
   const std::atomic<bool>* cancel = nullptr;
   /// Re-sweeps allowed when the envelope leaves doubt: its check fails, or some of its vertices
   /// or face centroids on kept walls or inner shells are not certified within ε
