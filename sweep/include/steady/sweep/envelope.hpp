@@ -96,9 +96,9 @@ struct SweepOptions {
   /// a later call starts over. The checks come before each progress report (none follows a
   /// cancellation), between the serial steps of the stages and between the work items of the
   /// parallel steps (whatever `threads` is), so the sweep stops within a few hundredths of its
-  /// running time: on the elephant screw at 1e-3, a 2.1 s sweep, 33 ms on average and 57 ms at
-  /// most from the flag to the caller's catch, unwinding included, over flags set at nine
-  /// points of the sweep; on bunny00's, 10.8 s, 206 ms and 297 ms (BM_SweepCancel in bench/).
+  /// running time: on the elephant screw at 1e-3, a 2 s sweep, 33-44 ms on average and 57-71
+  /// ms at most (two runs) from the flag to the caller's catch, unwinding included, over flags
+  /// set at nine points of the sweep; on bunny00's, 10.8 s, 206 ms and 297 ms (BM_SweepCancel in bench/).
   /// A flag that stays false changes nothing: the envelope is the same, bit for bit. The flag
   /// is only read: resetting it is the caller's business.
   const std::atomic<bool>* cancel = nullptr;
