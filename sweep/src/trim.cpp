@@ -90,6 +90,7 @@
 #include <set>
 #include <string>
 #include <tuple>
+#include <type_traits>
 #include <unordered_map>
 #include <utility>
 #include <variant>
@@ -171,25 +172,40 @@ void parallelFor(std::size_t begin, std::size_t end, int threads, Fn&& fn) {
   });
 }
 
-// Sorts v by operator< when `bucket` (values below `buckets`) orders it first: x < y implies
-// bucket(x) <= bucket(y), as the smaller vertex of an edge key does. One counting pass, a
-// scatter, then each bucket sorted on its own (in parallel unless `threads` is 1): linear in
-// the size but for the buckets' sorts, and the same order as std::sort when no two elements
-// are equal yet distinguishable. For the edges of a mesh (a few per vertex) it is several times
-// faster than a comparison sort: with it the label stage of the elephant screw at 1e-3 (1.7M
-// face sides to sort) takes 0.12 s instead of 0.18 s on one thread.
-template <class T, class Bucket>
-void bucketSort(std::vector<T>& v, std::size_t buckets, Bucket bucket, int threads) {
+// The items item(0), ..., item(n - 1) sorted by operator<, where `bucket` (values below
+// `buckets`) orders them first: x < y implies bucket(x) <= bucket(y), as the smaller vertex of an
+// edge key does. One counting pass, a scatter, then each bucket sorted on its own (in parallel
+// unless `threads` is 1): linear in n but for the buckets' sorts, and the same order as
+// std::sort when no two items are equal yet distinguishable. For the edges of a mesh (a few per
+// vertex) it is several times faster than a comparison sort: with it the label stage of the
+// elephant screw at 1e-3 (1.7M face sides to sort) took 0.12 s instead of 0.18 s on one thread.
+// The items are made twice, when counted and when placed, and never stored but in the result:
+// a list of them made first, to be sorted, was as large as the result, and filling its fresh
+// pages took most of the time (building the elephant screw's 1.7M face sides, 27 MB, took
+// 83-97 ms, the sort 110-130 ms).
+template <class Item, class Bucket>
+auto bucketSorted(std::size_t n, std::size_t buckets, Item item, Bucket bucket, int threads) {
+  using T = std::decay_t<decltype(item(std::size_t{0}))>;
   std::vector<std::size_t> start(buckets + 1, 0);
-  for (const T& x : v) ++start[static_cast<std::size_t>(bucket(x)) + 1];
+  for (std::size_t i = 0; i < n; ++i) ++start[static_cast<std::size_t>(bucket(item(i))) + 1];
   std::partial_sum(start.begin(), start.end(), start.begin());
-  std::vector<T> out(v.size());
+  std::vector<T> out(n);
   std::vector<std::size_t> next(start.begin(), start.end() - 1);
-  for (const T& x : v) out[next[static_cast<std::size_t>(bucket(x))]++] = x;
+  for (std::size_t i = 0; i < n; ++i) {
+    const T x = item(i);
+    out[next[static_cast<std::size_t>(bucket(x))]++] = x;
+  }
   parallelFor(0, buckets, threads, [&](std::size_t b) {
     if (start[b + 1] - start[b] > 1)
       std::sort(out.begin() + static_cast<std::ptrdiff_t>(start[b]), out.begin() + static_cast<std::ptrdiff_t>(start[b + 1]));
   });
+  return out;
+}
+
+// Sorts v as bucketSorted sorts its items.
+template <class T, class Bucket>
+void bucketSort(std::vector<T>& v, std::size_t buckets, Bucket bucket, int threads) {
+  std::vector<T> out = bucketSorted(v.size(), buckets, [&v](std::size_t i) -> const T& { return v[i]; }, bucket, threads);
   v.swap(out);
 }
 
@@ -289,12 +305,14 @@ std::uint64_t edgeKey(int a, int b) {
 // The face sides of every edge of T, (edge key, 3 f + k for the edge T[f][k] -> T[f][k + 1]),
 // sorted: a run is the faces of one edge, in face order. Every vertex index is below `points`.
 std::vector<std::pair<std::uint64_t, int>> edgeSides(const std::vector<Tri>& T, std::size_t points, int threads) {
-  std::vector<std::pair<std::uint64_t, int>> sides;
-  sides.reserve(3 * T.size());
-  for (std::size_t f = 0; f < T.size(); ++f)
-    for (int k = 0; k < 3; ++k) sides.emplace_back(edgeKey(T[f][k], T[f][(k + 1) % 3]), 3 * static_cast<int>(f) + k);
-  bucketSort(sides, points, [](const std::pair<std::uint64_t, int>& x) { return x.first >> 32; }, threads);
-  return sides;
+  return bucketSorted(
+      3 * T.size(), points,
+      [&T](std::size_t i) {
+        const Tri& t = T[i / 3];
+        const std::size_t k = i % 3;
+        return std::pair<std::uint64_t, int>(edgeKey(t[k], t[(k + 1) % 3]), static_cast<int>(i));
+      },
+      [](const std::pair<std::uint64_t, int>& x) { return x.first >> 32; }, threads);
 }
 
 // The faces of the edge run [i, j) of sorted face sides that run it from its smaller vertex to
@@ -596,13 +614,14 @@ void mergeCoincident(Arrangement& A, int threads) {
   const std::size_t n = A.faces.size();
   // Faces sorted by their sorted corners, then by number: a run is one set of coincident
   // faces, and its first is the first of them in face order, which stands for them all.
-  std::vector<std::pair<Tri, int>> key(n);
-  for (std::size_t g = 0; g < n; ++g) {
-    Tri k = A.faces[g];
-    std::sort(k.begin(), k.end());
-    key[g] = {k, static_cast<int>(g)};
-  }
-  bucketSort(key, A.points.size(), [](const std::pair<Tri, int>& x) { return x.first[0]; }, threads);
+  std::vector<std::pair<Tri, int>> key = bucketSorted(
+      n, A.points.size(),
+      [&A](std::size_t g) {
+        Tri k = A.faces[g];
+        std::sort(k.begin(), k.end());
+        return std::pair<Tri, int>(k, static_cast<int>(g));
+      },
+      [](const std::pair<Tri, int>& x) { return x.first[0]; }, threads);
   std::vector<int> weight(n, 0);  // per face standing for its set: the net number of layers
   std::vector<char> stands(n, 0);
   for (std::size_t i = 0, j = 0; i < n; i = j) {
@@ -1880,15 +1899,14 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
   // Patches: faces joined across edges with exactly two faces in opposite directions. The
   // face sides of every edge (edge, signed face: face + 1 when the face runs the edge from
   // its smaller vertex, -(face + 1) otherwise), sorted by edge.
-  std::vector<std::pair<std::uint64_t, int>> sides;
-  sides.reserve(3 * nf);
-  for (std::size_t f = 0; f < nf; ++f)
-    for (int c = 0; c < 3; ++c) {
-      const int a = T[f][c], b = T[f][(c + 1) % 3];
-      sides.emplace_back(edgeKey(a, b), a < b ? static_cast<int>(f) + 1 : -static_cast<int>(f) - 1);
-    }
-  checkpoint();  // (these serial steps take about 0.2 s each on bunny00's screw)
-  bucketSort(sides, A.points.size(), [](const std::pair<std::uint64_t, int>& x) { return x.first >> 32; }, options.threads);
+  std::vector<std::pair<std::uint64_t, int>> sides = bucketSorted(
+      3 * nf, A.points.size(),
+      [&T](std::size_t i) {
+        const std::size_t f = i / 3, c = i % 3;
+        const int a = T[f][c], b = T[f][(c + 1) % 3];
+        return std::pair<std::uint64_t, int>(edgeKey(a, b), a < b ? static_cast<int>(f) + 1 : -static_cast<int>(f) - 1);
+      },
+      [](const std::pair<std::uint64_t, int>& x) { return x.first >> 32; }, options.threads);
   std::vector<int> parent(nf);
   std::iota(parent.begin(), parent.end(), 0);
   for (std::size_t i = 0, j = 0; i < sides.size(); i = j) {
@@ -2389,11 +2407,14 @@ std::size_t splitPinchedVertices(std::vector<Vec>& V, std::vector<Tri>& T, int t
     std::vector<int> origin;
     copies = splitFans(V1, T1, empty_wedges, origin, threads);
     // Edges that still have more than two faces, named by their original vertices.
-    std::vector<std::uint64_t> edges;
-    edges.reserve(3 * T1.size());
-    for (const Tri& t : T1)
-      for (int k = 0; k < 3; ++k) edges.push_back(edgeKey(t[k], t[(k + 1) % 3]));
-    bucketSort(edges, V1.size(), [](std::uint64_t e) { return e >> 32; }, threads);
+    const std::vector<std::uint64_t> edges = bucketSorted(
+        3 * T1.size(), V1.size(),
+        [&T1](std::size_t i) {
+          const Tri& t = T1[i / 3];
+          const std::size_t k = i % 3;
+          return edgeKey(t[k], t[(k + 1) % 3]);
+        },
+        [](std::uint64_t e) { return e >> 32; }, threads);
     std::size_t added = 0;
     for (std::size_t i = 0, j = 0; i < edges.size(); i = j) {
       while (j < edges.size() && edges[j] == edges[i]) ++j;
@@ -3903,12 +3924,9 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
     std::uint64_t key;
     int faces, net;
   };
-  // (sort: orders the (edge, direction) pairs of all the faces' edges by edge)
-  auto edgeUsesBy = [](const std::vector<Tri>& faces, auto&& sort) {
-    std::vector<std::pair<std::uint64_t, int>> all;
-    for (const Tri& t : faces)
-      for (int k = 0; k < 3; ++k) all.emplace_back(edgeKey(t[k], t[(k + 1) % 3]), t[k] < t[(k + 1) % 3] ? 1 : -1);
-    sort(all);
+  // (the (edge, direction) pairs of all the faces' edges, sorted by edge: the few of one
+  // filling by std::sort, those of a whole surface by bucketSorted)
+  auto edgeUsesOf = [](const std::vector<std::pair<std::uint64_t, int>>& all) {
     std::vector<EdgeUse> out;
     for (const auto& [key, dir] : all) {
       if (out.empty() || out.back().key != key) out.push_back({key, 0, 0});
@@ -3917,10 +3935,21 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
     }
     return out;
   };
-  auto edgeUses = [threads, &V, &edgeUsesBy](const std::vector<Tri>& faces) {
-    return edgeUsesBy(faces, [&](std::vector<std::pair<std::uint64_t, int>>& all) {
-      bucketSort(all, V.size(), [](const std::pair<std::uint64_t, int>& x) { return x.first >> 32; }, threads);
-    });
+  auto edgeSide = [](const std::vector<Tri>& faces, std::size_t i) {
+    const Tri& t = faces[i / 3];
+    const std::size_t k = i % 3;
+    return std::pair<std::uint64_t, int>(edgeKey(t[k], t[(k + 1) % 3]), t[k] < t[(k + 1) % 3] ? 1 : -1);
+  };
+  auto edgeUses = [threads, &V, &edgeUsesOf, &edgeSide](const std::vector<Tri>& faces) {
+    return edgeUsesOf(bucketSorted(
+        3 * faces.size(), V.size(), [&](std::size_t i) { return edgeSide(faces, i); },
+        [](const std::pair<std::uint64_t, int>& x) { return x.first >> 32; }, threads));
+  };
+  auto fewEdgeUses = [&edgeUsesOf, &edgeSide](const std::vector<Tri>& faces) {
+    std::vector<std::pair<std::uint64_t, int>> all(3 * faces.size());
+    for (std::size_t i = 0; i < all.size(); ++i) all[i] = edgeSide(faces, i);
+    std::sort(all.begin(), all.end());
+    return edgeUsesOf(all);
   };
   // The use of an edge in a sorted list of edge uses (none: 0 faces).
   auto byKey = [](const EdgeUse& e, std::uint64_t x) { return e.key < x; };  // (for lower_bound)
@@ -4180,7 +4209,7 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
     for (std::size_t l = 0; l < loops.size(); ++l) {
       if (!fresh[l]) continue;
       own_wrong[l].clear();
-      const std::vector<EdgeUse> own = edgeUsesBy(fill[l], [](auto& all) { std::sort(all.begin(), all.end()); });
+      const std::vector<EdgeUse> own = fewEdgeUses(fill[l]);
       for (const EdgeUse& u : own) {
         const EdgeUse a = useOf(surface_use, u.key), b = useOf(added_use, u.key);
         if (wrong(a, u.faces, u.net)) own_wrong[l].push_back(u.key);  // (in increasing order)
