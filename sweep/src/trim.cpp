@@ -189,6 +189,7 @@ auto bucketSorted(std::size_t n, std::size_t buckets, Item item, Bucket bucket, 
   std::vector<std::size_t> start(buckets + 1, 0);
   for (std::size_t i = 0; i < n; ++i) ++start[static_cast<std::size_t>(bucket(item(i))) + 1];
   std::partial_sum(start.begin(), start.end(), start.begin());
+  checkpoint();  // (between the passes: 70 and 410 ms on bunny00 along screw.json's sides)
   std::vector<T> out(n);
   std::vector<std::size_t> next(start.begin(), start.end() - 1);
   for (std::size_t i = 0; i < n; ++i) {
