@@ -45,6 +45,7 @@
 #include <steady/sweep/inside.hpp>
 
 #include "box_orientation.hpp"
+#include "coincident.hpp"
 #include "cycle.hpp"
 #include "depth_bound.hpp"
 #include "doubt.hpp"
@@ -607,29 +608,47 @@ struct Arrangement {
   std::size_t cancelled = 0;  // faces dropped because coincident layers cancelled
 };
 
+// (detail::MergeEveryFace: mergeCoincident compares every face, for tests.)
+thread_local bool merge_every_face = false;
+
 // Merges coincident faces (the same three points in either orientation: coplanar layers, which
 // the constrained Delaunay triangulations cut identically, since CGAL breaks cocircular ties by
 // symbolic perturbation) into one face whose weight is the net number of layers; faces whose
 // layers cancel are dropped, as they change no winding number.
-void mergeCoincident(Arrangement& A, int threads) {
+//
+// Only the faces cut from the cycle triangles flagged in `layered` are compared: two coincident
+// faces span one plane and overlap, and each lies in its own cycle triangle (one triangle's
+// triangulation has no two faces on the same points), so their two triangles are coplanar and
+// overlap: they are either the same three points (a twin, flagged by the pair search) or a
+// crossing pair that arrange cuts as coplanar (or in general), which flags both. (Sorting every
+// face took 0.08-0.10 s of the elephant screw's intersect stage, on one thread, for a handful of
+// coplanar pairs.) With detail::MergeEveryFace, every face is compared.
+void mergeCoincident(Arrangement& A, const std::vector<char>& layered, int threads) {
   const std::size_t n = A.faces.size();
-  // Faces sorted by their sorted corners, then by number: a run is one set of coincident
-  // faces, and its first is the first of them in face order, which stands for them all.
+  std::vector<int> candidates;  // the faces of flagged triangles, in face order
+  for (std::size_t g = 0; g < n; ++g)
+    if (merge_every_face || layered[static_cast<std::size_t>(A.source[g])]) candidates.push_back(static_cast<int>(g));
+  const std::size_t m = candidates.size();
+  // Those faces sorted by their sorted corners, then by number: a run is one set of
+  // coincident faces, and its first is the first of them in face order, which stands for them
+  // all. Every other face stands alone, with weight 1.
   std::vector<std::pair<Tri, int>> key = bucketSorted(
-      n, A.points.size(),
-      [&A](std::size_t g) {
-        Tri k = A.faces[g];
+      m, A.points.size(),
+      [&A, &candidates](std::size_t i) {
+        Tri k = A.faces[static_cast<std::size_t>(candidates[i])];
         std::sort(k.begin(), k.end());
-        return std::pair<Tri, int>(k, static_cast<int>(g));
+        return std::pair<Tri, int>(k, candidates[i]);
       },
       [](const std::pair<Tri, int>& x) { return x.first[0]; }, threads);
-  std::vector<int> weight(n, 0);  // per face standing for its set: the net number of layers
-  std::vector<char> stands(n, 0);
-  for (std::size_t i = 0, j = 0; i < n; i = j) {
+  candidates = {};
+  std::vector<int> weight(n, 1);  // per face standing for its set: the net number of layers
+  std::vector<char> stands(n, 1);
+  for (const auto& k : key) stands[static_cast<std::size_t>(k.second)] = 0, weight[static_cast<std::size_t>(k.second)] = 0;
+  for (std::size_t i = 0, j = 0; i < m; i = j) {
     const int first = key[i].second;
     const Tri& u = A.faces[static_cast<std::size_t>(first)];
     stands[static_cast<std::size_t>(first)] = 1;
-    for (j = i; j < n && key[j].first == key[i].first; ++j) {
+    for (j = i; j < m && key[j].first == key[i].first; ++j) {
       const Tri& t = A.faces[static_cast<std::size_t>(key[j].second)];
       const bool same = (t[0] == u[0] && t[1] == u[1]) || (t[0] == u[1] && t[1] == u[2]) || (t[0] == u[2] && t[1] == u[0]);
       weight[static_cast<std::size_t>(first)] += same ? 1 : -1;
@@ -652,12 +671,11 @@ void mergeCoincident(Arrangement& A, int threads) {
     A.source[out] = A.source[f];
     ++out;
   }
+  // (Not shrunk to fit: the capacity beyond the faces was never written, so it holds no memory,
+  // while a copy would write 8 MB of fresh pages on the elephant screw, 0.024 s.)
   A.faces.resize(out);
   A.weight.resize(out);
   A.source.resize(out);
-  A.faces.shrink_to_fit();
-  A.weight.shrink_to_fit();
-  A.source.shrink_to_fit();
 }
 
 // A constraint inside one triangle: a segment between two points of the arrangement (indices
@@ -1277,8 +1295,18 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   // Pairs with inexact corners are decided in Mpzf (DyadicPairs).
   const DyadicPairs dyadic(out.approx, ep, std::move(exact_index), std::move(exact_points));
   checkpoint();
+  // Per cycle triangle: whether faces cut from it may coincide with faces of another (see
+  // mergeCoincident): it has a twin on the same three points (flagged here, in parallel), or a
+  // crossing pair that is cut as coplanar or in general (flagged below).
+  std::unique_ptr<std::atomic<char>[]> twin(new std::atomic<char>[T.size()]);
+  for (std::size_t t = 0; t < T.size(); ++t) twin[t].store(0, std::memory_order_relaxed);
   const auto pairs = crossingPairs(out.approx, pad, T, options.threads, [&](int i, int j) {
     if (planes.apart(i, j)) return false;
+    int same[3];
+    if (shared(T[i], T[j], same) == 3) {  // (crosses would say no: nothing to cut)
+      twin[i].store(1, std::memory_order_relaxed), twin[j].store(1, std::memory_order_relaxed);
+      return false;
+    }
     if (plain(T[i]) && plain(T[j])) return crosses(ip, T[i], T[j]);
     return dyadic.decide(T[i], T[j], [](const auto& P, const std::vector<Tri>& L, const int*) { return crosses(P, L[0], L[1]); });
   });
@@ -1335,6 +1363,9 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   auto endPoint = [&](const End& e) {
     return e.vertex >= 0 ? e.vertex : e.cross[0] >= 0 ? crossPoint(e.cross) : cutPoint(e.cut);
   };
+  std::vector<char> layered(T.size());
+  for (std::size_t t = 0; t < T.size(); ++t) layered[t] = twin[t].load(std::memory_order_relaxed);
+  twin.reset();
   std::vector<std::vector<Constraint>> cons(T.size());
   // How each pair crosses, found by predicates alone in parallel: from a shared vertex to a cut
   // (kind 1), between two cuts (kind 2), between the ends lineCrossing finds (kind 3: planes
@@ -1460,6 +1491,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
       }
       if (m <= 2) c = {ids[0], ids[m - 1]};
     } else if (cr.kind == 4) {  // (coplanar: the pieces bound the overlap in both triangles)
+      layered[static_cast<std::size_t>(i)] = layered[static_cast<std::size_t>(j)] = 1;
       for (std::size_t e = 0; e < cr.ends->size(); e += 2) {
         const Constraint piece{endPoint((*cr.ends)[e]), endPoint((*cr.ends)[e + 1]), -1, (*cr.edges)[e / 2]};
         cons[i].push_back(piece);
@@ -1472,6 +1504,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
       cons[j].push_back({c.a, c.b, i});
       continue;
     }
+    layered[static_cast<std::size_t>(i)] = layered[static_cast<std::size_t>(j)] = 1;  // (may be coplanar)
     const std::size_t before_i = cons[i].size();
     // (a kind 3 pair whose ends name more than two points is intersected here, in general)
     addConstraints(cr.general ? *cr.general : intersectGeneral(i, j), cons[i], pointId);
@@ -1702,7 +1735,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
     }
   }
   checkpoint();
-  mergeCoincident(out, options.threads);
+  mergeCoincident(out, layered, options.threads);
   out.sources = std::move(T);
   return out;
 }
@@ -2211,6 +2244,9 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
 // ---------------------------------------------------------------------------------------------
 
 }  // namespace
+
+detail::MergeEveryFace::MergeEveryFace() : before_(merge_every_face) { merge_every_face = true; }
+detail::MergeEveryFace::~MergeEveryFace() { merge_every_face = before_; }
 
 std::size_t detail::snapVertices(std::vector<Vec>& V, std::vector<Tri>& T) {
   if (V.empty()) return 0;

@@ -21,6 +21,7 @@
 #include "sweep/envelope_oracle.hpp"
 #include "sweep/sweep_test.hpp"
 
+#include "coincident.hpp"  // (internal: detail::MergeEveryFace)
 #include "cycle.hpp"  // (internal: a span's cycle, detail::planSpan)
 #include "doubt.hpp"  // (internal: detail::sweptEnvelope with another cap)
 
@@ -361,6 +362,64 @@ TEST(Envelope, TurnsOfTheBoxInItsPlane) {
     EXPECT_EQ(off_plane, 0u) << "vertices within 1e-12 of the sliding planes z = +-0.25 but not on them";
     std::mt19937_64 rng(48);
     checkEnvelope(m, motion, env, epsOf(m, c.relative), rng, "box turning in its plane", CheckOptions{});
+  }
+}
+
+// The arrangement merges coincident faces (coplanar layers) by comparing only the faces of cycle
+// triangles that have a twin on the same three points or a coplanar crossing (trim.cpp,
+// mergeCoincident). Against the merge over every face (detail::MergeEveryFace), on scenes with
+// such layers: the same faces merged and cancelled, and the same envelope to the last bit. A
+// triangle left unflagged whose faces had partners would keep them apart, and the counts would
+// differ. The bracket's screw, the tetrahedron along keys.json and the box's turn in its plane
+// have coplanar crossings; the box with a second copy of itself as another shell has twins
+// (every cap triangle and every strip triangle twice), and sweeps the box's own envelope.
+TEST(Envelope, CoincidentFacesAsFoundAmongAllFaces) {
+  auto bundled = [](const char* name) {
+    const steady::io::TriangleMesh t = steady::io::readMesh(std::string(STEADY_DATA_DIR "/meshes/") + name + ".off");
+    return Mesh{t.vertices, t.faces};
+  };
+  auto motionFile = [](const char* name, const Mesh& m) {
+    return steady::io::readMotionFile(std::string(STEADY_DATA_DIR "/motions/") + name + ".json")
+        .motion()
+        .toMotion(makeBody(m).box());
+  };
+  Mesh doubled = bundled("box");
+  const int n = static_cast<int>(doubled.v.size());
+  for (std::size_t f = 0, nf = doubled.f.size(); f < nf; ++f)
+    doubled.f.push_back({{doubled.f[f][0] + n, doubled.f[f][1] + n, doubled.f[f][2] + n}});
+  for (int v = 0; v < n; ++v) doubled.v.push_back(doubled.v[static_cast<std::size_t>(v)]);
+  struct Case {
+    std::string name;
+    Mesh mesh;
+    Motion3 motion;
+  };
+  const Mesh bracket = bundled("bracket"), tetrahedron = bundled("tetrahedron"), box = bundled("box");
+  const Case cases[] = {
+      {"bracket along screw.json", bracket, motionFile("screw", bracket)},
+      {"tetrahedron along keys.json", tetrahedron, motionFile("keys", tetrahedron)},
+      {"box turning 90 degrees in its plane", box,
+       single(Affine3(), Affine3::translation(V(2, 0.5, 0)) * Affine3::rotationDegrees(V(0, 0, 1), 90))},
+      {"box doubled along screw.json", doubled, motionFile("screw", doubled)}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const Envelope flagged = sweep(c.mesh, c.motion);
+    Envelope every;
+    {
+      const steady::sweep::detail::MergeEveryFace all;
+      every = sweep(c.mesh, c.motion);
+    }
+    std::printf("[ info     ] %s: %zu faces merged, %zu cancelled\n", c.name.c_str(), every.coincident_merged,
+                every.coincident_cancelled);
+    EXPECT_GT(every.coincident_merged, 0u);  // (the scene has layers to merge)
+    EXPECT_EQ(flagged.coincident_merged, every.coincident_merged);
+    EXPECT_EQ(flagged.coincident_cancelled, every.coincident_cancelled);
+    EXPECT_TRUE(flagged.vertices == every.vertices);
+    EXPECT_TRUE(flagged.triangles == every.triangles);
+    if (&c.mesh == &cases[3].mesh) {
+      const Envelope single_box = sweep(box, c.motion);
+      EXPECT_TRUE(flagged.vertices == single_box.vertices);
+      EXPECT_TRUE(flagged.triangles == single_box.triangles);
+    }
   }
 }
 
