@@ -184,24 +184,32 @@ void parallelFor(std::size_t begin, std::size_t end, int threads, Fn&& fn) {
 // a list of them made first, to be sorted, was as large as the result, and filling its fresh
 // pages took most of the time (building the elephant screw's 1.7M face sides, 27 MB, took
 // 83-97 ms, the sort 110-130 ms).
-template <class Item, class Bucket>
-auto bucketSorted(std::size_t n, std::size_t buckets, Item item, Bucket bucket, int threads) {
+//
+// bucketSortedAt takes the bucket of item i as bucket_at(i), so that the items need not hold
+// it, and can return where each bucket begins: bucket b's items are out[(*starts)[b]] ..
+// out[(*starts)[b + 1] - 1].
+template <class Item, class BucketAt>
+auto bucketSortedAt(std::size_t n, std::size_t buckets, Item item, BucketAt bucket_at, int threads,
+                    std::vector<std::size_t>* starts = nullptr) {
   using T = std::decay_t<decltype(item(std::size_t{0}))>;
   std::vector<std::size_t> start(buckets + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) ++start[static_cast<std::size_t>(bucket(item(i))) + 1];
+  for (std::size_t i = 0; i < n; ++i) ++start[static_cast<std::size_t>(bucket_at(i)) + 1];
   std::partial_sum(start.begin(), start.end(), start.begin());
   checkpoint();  // (between the passes: 70 and 410 ms on bunny00 along screw.json's sides)
   std::vector<T> out(n);
   std::vector<std::size_t> next(start.begin(), start.end() - 1);
-  for (std::size_t i = 0; i < n; ++i) {
-    const T x = item(i);
-    out[next[static_cast<std::size_t>(bucket(x))]++] = x;
-  }
+  for (std::size_t i = 0; i < n; ++i) out[next[static_cast<std::size_t>(bucket_at(i))]++] = item(i);
   parallelFor(0, buckets, threads, [&](std::size_t b) {
     if (start[b + 1] - start[b] > 1)
       std::sort(out.begin() + static_cast<std::ptrdiff_t>(start[b]), out.begin() + static_cast<std::ptrdiff_t>(start[b + 1]));
   });
+  if (starts) starts->swap(start);
   return out;
+}
+
+template <class Item, class Bucket>
+auto bucketSorted(std::size_t n, std::size_t buckets, Item item, Bucket bucket, int threads) {
+  return bucketSortedAt(n, buckets, item, [&](std::size_t i) { return bucket(item(i)); }, threads);
 }
 
 // Sorts v as bucketSorted sorts its items.
@@ -1832,9 +1840,39 @@ struct Step {
   int p, q, c;
 };
 
-// The steps across every edge where other than two oppositely running faces meet (`sides`: the
-// face sides of every edge, (edge key, face + 1 or -(face + 1)), sorted by edge, as label makes
-// them), in the order of the edges. Around such an edge (a, b), a < b, the faces are ordered by
+// The face sides of the edges of the arrangement's faces, as label makes them: per edge (a, b),
+// a < b, one side per face that uses it, grouped by a (a's edges' sides are side[first[a]] ..
+// side[first[a + 1] - 1]) and sorted within a's group. A side holds b in its high 32 bits and,
+// in its low 32, the signed face (face + 1 when the face runs the edge from a to b, -(face + 1)
+// otherwise) plus 2^31, so that the sides of an edge are together and in the order of the
+// signed faces. (8 bytes a side: with the edge's key in each, 16, the elephant screw's 1.6M sides
+// took 25 MB of fresh pages, 6,200 page faults, about 90 ms on one thread.)
+struct EdgeSides {
+  std::vector<std::size_t> first;
+  std::vector<std::uint64_t> side;
+  static std::uint64_t make(int b, int signed_face) {
+    return static_cast<std::uint64_t>(static_cast<std::uint32_t>(b)) << 32 |
+           (static_cast<std::uint32_t>(signed_face) ^ 0x80000000u);
+  }
+  static int vertex(std::uint64_t x) { return static_cast<int>(x >> 32); }
+  static int signedFace(std::uint64_t x) { return static_cast<int>(static_cast<std::uint32_t>(x) ^ 0x80000000u); }
+  // Calls edge(a, i, j) for every edge (a, b): its sides are side[i] .. side[j - 1].
+  template <class Edge>
+  void forEach(Edge&& edge) const {
+    for (std::size_t a = 0; a + 1 < first.size(); ++a)
+      for (std::size_t i = first[a], j = i; i < first[a + 1]; i = j) {
+        while (j < first[a + 1] && vertex(side[j]) == vertex(side[i])) ++j;
+        edge(static_cast<int>(a), i, j);
+      }
+  }
+  // Whether side[i] and side[i + 1] are the only sides of their edge and run it opposite ways.
+  bool manifold(std::size_t i, std::size_t j) const {
+    return j - i == 2 && (signedFace(side[i]) > 0) != (signedFace(side[i + 1]) > 0);
+  }
+};
+
+// The steps across every edge where other than two oppositely running faces meet, in the order
+// of the edges. Around such an edge (a, b), a < b, the faces are ordered by
 // the angle of their third vertex c about the axis b - a, from the first face's: c is in the
 // open half-space in front of the first face (angle in (0, pi)) or behind it, or in its
 // half-plane's continuation (pi); two faces in one open half-space by orientation(a, b, c_i,
@@ -1842,24 +1880,26 @@ struct Step {
 // w_b of a face on its front and back (w_b = w_f + its weight), consecutive faces i, i + 1
 // share a cell: w on the increasing side of i equals w on the decreasing side of i + 1. Two
 // faces in one half-plane (an exact tie) have no cell between them: the edge gives only markers.
-std::vector<Step> crossEdges(const Arrangement& A, const std::vector<int>& patch,
-                             const std::vector<std::pair<std::uint64_t, int>>& sides, int threads) {
-  // The side ranges [i, j) of the edges that count, and where each edge's steps go: edge e
-  // has one step per face, at steps[first[e], first[e + 1]).
-  std::vector<std::pair<std::size_t, std::size_t>> edges;
+std::vector<Step> crossEdges(const Arrangement& A, const std::vector<int>& patch, const EdgeSides& sides, int threads) {
+  // The side ranges [i, j) of the edges that count with their first vertex, and where each
+  // edge's steps go: edge e has one step per face, at steps[first[e], first[e + 1]).
+  struct Range {
+    std::size_t i, j;
+    int a;
+  };
+  std::vector<Range> edges;
   std::vector<std::size_t> first{0};
-  for (std::size_t i = 0, j = 0; i < sides.size(); i = j) {
-    while (j < sides.size() && sides[j].first == sides[i].first) ++j;
-    if (j - i == 2 && (sides[i].second > 0) != (sides[i + 1].second > 0)) continue;
-    edges.emplace_back(i, j);
+  sides.forEach([&](int a, std::size_t i, std::size_t j) {
+    if (sides.manifold(i, j)) return;
+    edges.push_back({i, j, a});
     first.push_back(first.back() + (j - i));
-  }
+  });
   std::vector<Step> steps(first.back());
   const auto& P = A.points;
   parallelFor(0, edges.size(), threads, [&](std::size_t e) {
-    const auto [i, j] = edges[e];
+    const auto [i, j, a] = edges[e];
     const std::size_t o = first[e];
-    const int a = static_cast<int>(sides[i].first >> 32), b = static_cast<int>(sides[i].first & 0xffffffffu);
+    const int b = EdgeSides::vertex(sides.side[i]);
     struct Around {
       int face, third, half;
       bool forward;
@@ -1867,12 +1907,12 @@ std::vector<Step> crossEdges(const Arrangement& A, const std::vector<int>& patch
     std::vector<Around> r;
     r.reserve(j - i);
     for (std::size_t k = i; k < j; ++k) {
-      const int f = std::abs(sides[k].second) - 1;
+      const int sf = EdgeSides::signedFace(sides.side[k]), f = std::abs(sf) - 1;
       const Tri& t = A.faces[static_cast<std::size_t>(f)];
       int third = t[0];
       for (int v : t)
         if (v != a && v != b) third = v;
-      r.push_back({f, third, 0, sides[k].second > 0});
+      r.push_back({f, third, 0, sf > 0});
     }
     const EPoint &pa = P[a], &pb = P[b], &c0 = P[r[0].third];
     bool tie = false;
@@ -1930,24 +1970,28 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
   const std::size_t nf = T.size();
   Labels L;
 
-  // Patches: faces joined across edges with exactly two faces in opposite directions. The
-  // face sides of every edge (edge, signed face: face + 1 when the face runs the edge from
-  // its smaller vertex, -(face + 1) otherwise), sorted by edge.
-  std::vector<std::pair<std::uint64_t, int>> sides = bucketSorted(
+  // Patches: faces joined across edges with exactly two faces in opposite directions, found
+  // from the face sides of every edge (see EdgeSides).
+  EdgeSides sides;
+  sides.side = bucketSortedAt(
       3 * nf, A.points.size(),
       [&T](std::size_t i) {
         const std::size_t f = i / 3, c = i % 3;
         const int a = T[f][c], b = T[f][(c + 1) % 3];
-        return std::pair<std::uint64_t, int>(edgeKey(a, b), a < b ? static_cast<int>(f) + 1 : -static_cast<int>(f) - 1);
+        return EdgeSides::make(std::max(a, b), a < b ? static_cast<int>(f) + 1 : -static_cast<int>(f) - 1);
       },
-      [](const std::pair<std::uint64_t, int>& x) { return x.first >> 32; }, options.threads);
+      [&T](std::size_t i) {
+        const std::size_t f = i / 3, c = i % 3;
+        return std::min(T[f][c], T[f][(c + 1) % 3]);
+      },
+      options.threads, &sides.first);
   std::vector<int> parent(nf);
   std::iota(parent.begin(), parent.end(), 0);
-  for (std::size_t i = 0, j = 0; i < sides.size(); i = j) {
-    while (j < sides.size() && sides[j].first == sides[i].first) ++j;
-    if (j - i == 2 && (sides[i].second > 0) != (sides[i + 1].second > 0))
-      parent[findRoot(parent, std::abs(sides[i].second) - 1)] = findRoot(parent, std::abs(sides[i + 1].second) - 1);
-  }
+  sides.forEach([&](int, std::size_t i, std::size_t j) {
+    if (sides.manifold(i, j))
+      parent[findRoot(parent, std::abs(EdgeSides::signedFace(sides.side[i])) - 1)] =
+          findRoot(parent, std::abs(EdgeSides::signedFace(sides.side[i + 1])) - 1);
+  });
   checkpoint();
   L.patch.assign(nf, -1);
   std::vector<int> rep;  // per patch: its largest face (approximate area)
