@@ -416,15 +416,21 @@ bool crosses(const std::vector<Point>& P, const Tri& s, const Tri& t) {
 // which is added to the bound when a corner or the point is inexact.
 class DoublePlanes {
  public:
+  // (Made in parallel unless `threads` is 1: the arrays' fresh pages are first written there,
+  // and a page fault costs about 13 us in this project's benchmark machine; Eigen's vectors are
+  // not zeroed when the arrays are made.)
   DoublePlanes(const std::vector<Vec>& V, const std::vector<Tri>& T, const std::vector<char>* inexact = nullptr,
-               double pad = 0)
+               double pad = 0, int threads = 1)
       : V_(V), T_(T), n_(T.size()), perm_(T.size()), inexact_(inexact), d_(2 * pad) {
-    for (std::size_t f = 0; f < T.size(); ++f) {
-      const Vec q = V[T[f][1]] - V[T[f][0]], r = V[T[f][2]] - V[T[f][0]];
-      n_[f] = q.cross(r);
-      perm_[f] = Vec(std::abs(q.y() * r.z()) + std::abs(q.z() * r.y()), std::abs(q.x() * r.z()) + std::abs(q.z() * r.x()),
-                     std::abs(q.x() * r.y()) + std::abs(q.y() * r.x()));
-    }
+    constexpr std::size_t kChunk = 4096;
+    parallelFor(0, (T.size() + kChunk - 1) / kChunk, threads, [&](std::size_t c) {
+      for (std::size_t f = c * kChunk; f < std::min(T.size(), (c + 1) * kChunk); ++f) {
+        const Vec q = V[T[f][1]] - V[T[f][0]], r = V[T[f][2]] - V[T[f][0]];
+        n_[f] = q.cross(r);
+        perm_[f] = Vec(std::abs(q.y() * r.z()) + std::abs(q.z() * r.y()), std::abs(q.x() * r.z()) + std::abs(q.z() * r.x()),
+                       std::abs(q.x() * r.y()) + std::abs(q.y() * r.x()));
+      }
+    });
   }
   // Whether the corners of one triangle, but those it shares with the other, lie strictly on
   // one side of the other's plane, or a plane through their one shared corner (or any plane,
@@ -637,45 +643,46 @@ void mergeCoincident(Arrangement& A, const std::vector<char>& layered, int threa
   for (std::size_t g = 0; g < n; ++g)
     if (merge_every_face || layered[static_cast<std::size_t>(A.source[g])]) candidates.push_back(static_cast<int>(g));
   const std::size_t m = candidates.size();
-  // Those faces sorted by their sorted corners, then by number: a run is one set of
-  // coincident faces, and its first is the first of them in face order, which stands for them
-  // all. Every other face stands alone, with weight 1.
+  // Those faces by their sorted corners, then by place in `candidates` (face order): a run is
+  // one set of coincident faces, and its first is the first of them in face order, which stands
+  // for them all with the net number of layers as its weight. Every other face stands alone,
+  // with weight 1.
   std::vector<std::pair<Tri, int>> key = bucketSorted(
       m, A.points.size(),
       [&A, &candidates](std::size_t i) {
         Tri k = A.faces[static_cast<std::size_t>(candidates[i])];
         std::sort(k.begin(), k.end());
-        return std::pair<Tri, int>(k, candidates[i]);
+        return std::pair<Tri, int>(k, static_cast<int>(i));
       },
       [](const std::pair<Tri, int>& x) { return x.first[0]; }, threads);
-  candidates = {};
-  std::vector<int> weight(n, 1);  // per face standing for its set: the net number of layers
-  std::vector<char> stands(n, 1);
-  for (const auto& k : key) stands[static_cast<std::size_t>(k.second)] = 0, weight[static_cast<std::size_t>(k.second)] = 0;
+  constexpr int kFolded = std::numeric_limits<int>::min();  // (a face folded into another)
+  std::vector<int> weight(m, kFolded);  // per candidate
   for (std::size_t i = 0, j = 0; i < m; i = j) {
-    const int first = key[i].second;
-    const Tri& u = A.faces[static_cast<std::size_t>(first)];
-    stands[static_cast<std::size_t>(first)] = 1;
+    const auto first = static_cast<std::size_t>(key[i].second);
+    const Tri& u = A.faces[static_cast<std::size_t>(candidates[first])];
+    weight[first] = 0;
     for (j = i; j < m && key[j].first == key[i].first; ++j) {
-      const Tri& t = A.faces[static_cast<std::size_t>(key[j].second)];
+      const Tri& t = A.faces[static_cast<std::size_t>(candidates[static_cast<std::size_t>(key[j].second)])];
       const bool same = (t[0] == u[0] && t[1] == u[1]) || (t[0] == u[1] && t[1] == u[2]) || (t[0] == u[2] && t[1] == u[0]);
-      weight[static_cast<std::size_t>(first)] += same ? 1 : -1;
+      weight[first] += same ? 1 : -1;
     }
     A.merged += j - i - 1;
   }
   key = {};
   std::size_t out = 0;
-  A.weight.assign(n, 0);
-  for (std::size_t f = 0; f < n; ++f) {
-    if (!stands[f]) continue;
-    if (weight[f] == 0) {
+  A.weight.assign(n, 1);
+  for (std::size_t f = 0, c = 0; f < n; ++f) {
+    int w = 1;
+    if (c < m && static_cast<std::size_t>(candidates[c]) == f) w = weight[c++];
+    if (w == kFolded) continue;
+    if (w == 0) {
       ++A.cancelled;
       continue;
     }
     Tri t = A.faces[f];
-    if (weight[f] < 0) std::swap(t[1], t[2]);
+    if (w < 0) std::swap(t[1], t[2]);
     A.faces[out] = t;
-    A.weight[out] = std::abs(weight[f]);
+    A.weight[out] = std::abs(w);
     A.source[out] = A.source[f];
     ++out;
   }
@@ -1299,7 +1306,7 @@ Arrangement arrange(const std::vector<Vec>& V, const std::vector<detail::ExactPo
   pad = 2 * pad;  // (rounding of the comparisons above)
   // (Most pairs whose boxes meet are apart, 22 of bunny00's 26 million at 1e-3: the planes
   // settle them before the exact predicates.)
-  const DoublePlanes planes(out.approx, T, &inexact, pad);
+  const DoublePlanes planes(out.approx, T, &inexact, pad, options.threads);
   // Pairs with inexact corners are decided in Mpzf (DyadicPairs).
   const DyadicPairs dyadic(out.approx, ep, std::move(exact_index), std::move(exact_points));
   checkpoint();
@@ -2942,7 +2949,7 @@ void computeCheck(MeshCheck& c, const std::vector<Vec>& V, const std::vector<Tri
     // the check took 0.13 s that way.
     detail::FaceTree tree;
     tree.build(V, T, threads);
-    const DoublePlanes planes(V, T);
+    const DoublePlanes planes(V, T, nullptr, 0, threads);
     std::vector<long> crossing(T.size(), 0);
     parallelFor(0, T.size(), threads, [&](std::size_t k) {
       const int f = tree.faceAt(k);
@@ -3291,16 +3298,12 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
   const std::size_t nf = A.faces.size();
   std::vector<char> flag(nf, 0);
   if (!inside_swept) return flag;
-  std::vector<IPoint> P;
-  P.reserve(A.points.size());
-  for (const Vec& x : A.approx) P.emplace_back(x.x(), x.y(), x.z());
   auto vec = [&](int v) -> const Vec& { return A.approx[v]; };
   auto ipoint = [](const Vec& x) { return IPoint(x.x(), x.y(), x.z()); };
-  // Per selected face with a usable normal: the unit normal towards its empty side and its box
-  // (the walls); per face of a patch that is not buried, four probe segments (origin 0 the
-  // centroid, 1-3 the corners).
+  // Per selected face with a usable normal: the unit normal towards its empty side (see
+  // emptyNormal) and its box (the walls); per face of a patch that is not buried, four probe
+  // segments (origin 0 the centroid, 1-3 the corners).
   constexpr int kOrigins = 4;
-  std::vector<Vec> empty_normal(nf, Vec::Zero());
   auto origin = [&](std::size_t f, int k) {
     const Tri& t = A.faces[f];
     return k == 0 ? Vec((vec(t[0]) + vec(t[1]) + vec(t[2])) / 3.0) : vec(t[k - 1]);
@@ -3313,9 +3316,16 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
   // Faces with a usable normal (see kNormalWidth) and their side; per cycle triangle, the unit
   // normal of its widest such face (faces cut from one triangle share its plane). Every face
   // probes along its triangle's normal, so the corner probes of the faces of one triangle at
-  // one vertex end at the same point, tested once (see `corner_slot`).
+  // one vertex end at the same point, tested once (see `corner_slot`). A face's unit normal
+  // towards its empty side is then its triangle's times +1 or -1, which `usable_side` holds
+  // from there on (0: no usable normal). (A normal stored per face took 12.6 MB of fresh pages
+  // on the elephant screw at 1e-3, about 40 ms of page faults on one thread; so did a copy of
+  // the points for Epick, 6 MB.)
   std::vector<signed char> usable_side(nf, 0);
   std::vector<Vec> source_normal;
+  auto emptyNormal = [&](std::size_t f) -> Vec {
+    return static_cast<double>(usable_side[f]) * source_normal[static_cast<std::size_t>(A.source[f])];
+  };
   {
     std::size_t sources = 0;
     for (const int s : A.source) sources = std::max(sources, static_cast<std::size_t>(s) + 1);
@@ -3345,17 +3355,18 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
     const Vec a = vec(t[0]), b = vec(t[1]), c = vec(t[2]);
     const Vec& m = source_normal[static_cast<std::size_t>(A.source[f])];
     // (the face runs as its triangle or, merged with a coincident face, against it)
-    empty_normal[f] = (m.dot((b - a).cross(c - a)) > 0 ? usable_side[f] : -usable_side[f]) * m;
-    const int bucket = wallBucket(empty_normal[f]);
+    if (!(m.dot((b - a).cross(c - a)) > 0)) usable_side[f] = static_cast<signed char>(-usable_side[f]);
+    const Vec empty_normal = emptyNormal(f);
+    const int bucket = wallBucket(empty_normal);
     walls[bucket].push_back(t);
     wall_face[bucket].push_back(static_cast<int>(f));
     if (buried[p]) continue;
     // One box around the face's four probes: the triangle and its copy moved along them.
-    const Vec shift = kBuriedProbe * eps_t * empty_normal[f];
+    const Vec shift = kBuriedProbe * eps_t * empty_normal;
     const Vec lo = a.cwiseMin(b).cwiseMin(c), hi = a.cwiseMax(b).cwiseMax(c);
     probes.push_back({static_cast<int>(f), {{lo.cwiseMin(lo + shift), hi.cwiseMax(hi + shift)}}});
   }
-  auto probeEnd = [&](std::size_t f, int k) { return Vec(origin(f, k) + kBuriedProbe * eps_t * empty_normal[f]); };
+  auto probeEnd = [&](std::size_t f, int k) { return Vec(origin(f, k) + kBuriedProbe * eps_t * emptyNormal(f)); };
   const double ahead = kAhead * kBuriedProbe * eps_t;
   // Corner probes that end at the same point (same vertex, same triangle, same direction) share
   // a slot: its inside test runs once (0 not yet known, 1 inside, 2 outside). Two threads may
@@ -3368,7 +3379,7 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
     key.reserve(3 * probes.size());
     for (std::size_t i = 0; i < probes.size(); ++i) {
       const auto f = static_cast<std::size_t>(probes[i].first);
-      const bool along = empty_normal[f].dot(source_normal[static_cast<std::size_t>(A.source[f])]) > 0;
+      const bool along = usable_side[f] > 0;
       for (int k = 0; k < 3; ++k)
         key.push_back({{A.faces[f][k], 2 * static_cast<std::int64_t>(A.source[f]) + along}, static_cast<int>(3 * i + k)});
     }
@@ -3401,15 +3412,15 @@ std::vector<char> crackFaces(const Arrangement& A, const Labels& L, const std::v
     // (the box is widened by a few ulps: the segments' ends are rounded sums)
     const Vec pad = Vec::Constant(1e-15 * (1.0 + probes[i].second[1].cwiseAbs().maxCoeff() +
                                            probes[i].second[0].cwiseAbs().maxCoeff()));
-    const Vec& nf = empty_normal[f];
+    const Vec nf = emptyNormal(f);
     for (int b = 0; b < 6; ++b) {
       if (!(-(b & 1 ? -1.0 : 1.0) * nf[b / 2] >= kWallBucketReach)) continue;  // (no facing wall in it)
       tree[b].overlapping(probes[i].second[0] - pad, probes[i].second[1] + pad, [&](int w) {
         const std::size_t g = static_cast<std::size_t>(wall_face[b][static_cast<std::size_t>(w)]);
-        if (f == g || nf.dot(empty_normal[g]) > kFacing) return;
+        if (f == g || nf.dot(emptyNormal(g)) > kFacing) return;
         const Tri& t = A.faces[g];
-        const IK::Triangle_3 wall(P[t[0]], P[t[1]], P[t[2]]);
-        const CGAL::Bbox_3 wall_box = P[t[0]].bbox() + P[t[1]].bbox() + P[t[2]].bbox();
+        const IK::Triangle_3 wall(ipoint(vec(t[0])), ipoint(vec(t[1])), ipoint(vec(t[2])));
+        const CGAL::Bbox_3 wall_box = wall.bbox();
         for (int k = 0; k < kOrigins; ++k) {
           if (met >> k & 1) continue;
           // (a wall wholly behind the probe's origin, up to kAhead; see kFacing)
