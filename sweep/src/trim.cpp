@@ -185,20 +185,23 @@ void parallelFor(std::size_t begin, std::size_t end, int threads, Fn&& fn) {
 // pages took most of the time (building the elephant screw's 1.7M face sides, 27 MB, took
 // 83-97 ms, the sort 110-130 ms).
 //
-// bucketSortedAt takes the bucket of item i as bucket_at(i), so that the items need not hold
-// it, and can return where each bucket begins: bucket b's items are out[(*starts)[b]] ..
-// out[(*starts)[b + 1] - 1].
+// bucketSortedAt takes the bucket of item i as bucket_at(i, item(i)), so that the items need
+// not hold it, and can return where each bucket begins: bucket b's items are
+// out[(*starts)[b]] .. out[(*starts)[b + 1] - 1].
 template <class Item, class BucketAt>
 auto bucketSortedAt(std::size_t n, std::size_t buckets, Item item, BucketAt bucket_at, int threads,
                     std::vector<std::size_t>* starts = nullptr) {
   using T = std::decay_t<decltype(item(std::size_t{0}))>;
   std::vector<std::size_t> start(buckets + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) ++start[static_cast<std::size_t>(bucket_at(i)) + 1];
+  for (std::size_t i = 0; i < n; ++i) ++start[static_cast<std::size_t>(bucket_at(i, item(i))) + 1];
   std::partial_sum(start.begin(), start.end(), start.begin());
   checkpoint();  // (between the passes: 70 and 410 ms on bunny00 along screw.json's sides)
   std::vector<T> out(n);
   std::vector<std::size_t> next(start.begin(), start.end() - 1);
-  for (std::size_t i = 0; i < n; ++i) out[next[static_cast<std::size_t>(bucket_at(i))]++] = item(i);
+  for (std::size_t i = 0; i < n; ++i) {
+    const T x = item(i);
+    out[next[static_cast<std::size_t>(bucket_at(i, x))]++] = x;
+  }
   parallelFor(0, buckets, threads, [&](std::size_t b) {
     if (start[b + 1] - start[b] > 1)
       std::sort(out.begin() + static_cast<std::ptrdiff_t>(start[b]), out.begin() + static_cast<std::ptrdiff_t>(start[b + 1]));
@@ -209,7 +212,7 @@ auto bucketSortedAt(std::size_t n, std::size_t buckets, Item item, BucketAt buck
 
 template <class Item, class Bucket>
 auto bucketSorted(std::size_t n, std::size_t buckets, Item item, Bucket bucket, int threads) {
-  return bucketSortedAt(n, buckets, item, [&](std::size_t i) { return bucket(item(i)); }, threads);
+  return bucketSortedAt(n, buckets, item, [&bucket](std::size_t, const auto& x) { return bucket(x); }, threads);
 }
 
 // Sorts v as bucketSorted sorts its items.
@@ -1987,7 +1990,7 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
         const int a = T[f][c], b = T[f][(c + 1) % 3];
         return EdgeSides::make(std::max(a, b), a < b ? static_cast<int>(f) + 1 : -static_cast<int>(f) - 1);
       },
-      [&T](std::size_t i) {
+      [&T](std::size_t i, std::uint64_t) {
         const std::size_t f = i / 3, c = i % 3;
         return std::min(T[f][c], T[f][(c + 1) % 3]);
       },
