@@ -46,6 +46,7 @@
 
 #include "box_orientation.hpp"
 #include "coincident.hpp"
+#include "refill_memory.hpp"
 #include "cycle.hpp"
 #include "depth_bound.hpp"
 #include "doubt.hpp"
@@ -627,6 +628,9 @@ struct Arrangement {
 
 // (detail::MergeEveryFace: mergeCoincident compares every face, for tests.)
 thread_local bool merge_every_face = false;
+// (detail::RefillMemoryProbe: what fillMouths does with the refills of the round before, and
+// where it counts them.)
+thread_local detail::RefillMemoryProbe::Setting refill_memory{detail::RefillMemory::kTake, nullptr};
 
 // Merges coincident faces (the same three points in either orientation: coplanar layers, which
 // the constrained Delaunay triangulations cut identically, since CGAL breaks cocircular ties by
@@ -2301,6 +2305,15 @@ Labels label(const Arrangement& A, const SweepOptions& options) {
 
 detail::MergeEveryFace::MergeEveryFace() : before_(merge_every_face) { merge_every_face = true; }
 detail::MergeEveryFace::~MergeEveryFace() { merge_every_face = before_; }
+detail::RefillMemoryProbe::RefillMemoryProbe(RefillMemory mode) : before_(refill_memory) { refill_memory = {mode, this}; }
+detail::RefillMemoryProbe::~RefillMemoryProbe() { refill_memory = before_; }
+namespace detail {
+void countRefills(std::size_t taken, std::size_t differing) {
+  if (!refill_memory.probe) return;
+  refill_memory.probe->taken_ += taken;
+  refill_memory.probe->differing_ += differing;
+}
+}  // namespace detail
 
 std::size_t detail::snapVertices(std::vector<Vec>& V, std::vector<Tri>& T) {
   if (V.empty()) return 0;
@@ -3959,6 +3972,27 @@ struct MouthMemory {
     std::vector<Tri> faces;
   };
   std::unordered_multimap<std::uint64_t, Refined> refined;
+  // The refills (see refillLoop) of the last round, by a hash of the loop: the loop's points,
+  // the faces it avoided, which of its diagonals were usable, each triangle its searches tested
+  // against the surface (as places in the loop) and whether a surface face crossed it, and the
+  // filling found (places; none: no filling). A refill depends on the surface only through
+  // those. In the next round, a loop with the same points, avoided faces and usable diagonals,
+  // each of whose triangles found crossing still crosses a face of the surface (looked up again:
+  // the face found is the one the search would report, for the rims) and none of whose
+  // triangles found clear crosses a face new to the surface, would be searched the same way to
+  // the same filling: it is taken from here. (The elephant along data/motions/screw.json at
+  // 1e-3 refills about 190 loops of up to 25 points in each of its 5 mouth rounds, 26-33 ms a
+  // round on two threads; the rounds after the first now take 2-6 ms.)
+  struct Refilled {
+    std::vector<int> loop;
+    std::vector<Tri> avoid;
+    std::vector<char> usable;
+    std::vector<std::pair<std::array<int, 3>, char>> tested;
+    std::vector<std::array<int, 3>> faces;
+    bool taken = false;    // (taken from the round before, in the round that made this record)
+    bool differs = false;  // (and searched anew, it differed: see detail::RefillMemoryProbe)
+  };
+  std::unordered_multimap<std::uint64_t, Refilled> refilled;
   template <class Map>
   static auto find(Map& map, const detail::FillingShape& shape) {
     const auto [first, last] = map.equal_range(shape.hash);
@@ -4013,6 +4047,7 @@ bool refineRemembered(std::vector<Vec>& V, std::vector<IPoint>& P, const std::ve
 long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vector<std::array<int, 2>>& trouble,
                 std::vector<Tri>* rim, std::size_t& flaps, const DepthTest& depth, long refuse_below, long& found_deep, FillingDepths& taken,
                 const std::vector<int>& origin, std::vector<int> face_of, MouthMemory& memory, int threads) {
+  const detail::RefillMemory refill_mode = refill_memory.mode;  // (see detail::RefillMemoryProbe; read on the caller's thread)
   // Per undirected edge: how many faces use it and the net direction (a < b positive), by a
   // sort of every face's edges (faster than hashing here: this runs once per selection round).
   struct EdgeUse {
@@ -4433,20 +4468,32 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
   // next search, up to kRefillSearches searches. Returns the filling's faces (none when none is
   // found); the surface faces found crossing are added to `hit_list`. refillLoop(l) refills
   // loop l, avoiding avoid[l].
-  auto refill = [&](const std::vector<int>& loop, const std::vector<Tri>& avoid_faces, std::vector<int>& hit_list) {
-    std::vector<Tri> out;
-    const int n = static_cast<int>(loop.size());
-    auto at = [n](int i, int k) { return static_cast<std::size_t>(i) * static_cast<std::size_t>(n) + static_cast<std::size_t>(k); };
-    std::vector<char> usable(static_cast<std::size_t>(n) * static_cast<std::size_t>(n), 1);  // diagonals (i < k)
+  // (the diagonals (i, k), i < k, at i * n + k, that the refill may take: not an edge of the
+  // surface nor of the faces to avoid)
+  auto usableDiagonals = [&](const std::vector<int>& loop, const std::vector<Tri>& avoid_faces) {
+    const auto n = loop.size();
+    std::vector<char> usable(n * n, 1);
     std::vector<std::uint64_t> avoid_edges;  // (the edges of the fillings to avoid)
     for (const Tri& t : avoid_faces)
       for (int j = 0; j < 3; ++j) avoid_edges.push_back(edgeKey(t[j], t[(j + 1) % 3]));
     std::sort(avoid_edges.begin(), avoid_edges.end());
-    for (int i = 0; i < n; ++i)
-      for (int k = i + 2; k < n; ++k)
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t k = i + 2; k < n; ++k)
         if (!(i == 0 && k == n - 1))
-          usable[at(i, k)] = useOf(surface_use, edgeKey(loop[i], loop[k])).faces == 0 &&
-                             !std::binary_search(avoid_edges.begin(), avoid_edges.end(), edgeKey(loop[i], loop[k]));
+          usable[i * n + k] = useOf(surface_use, edgeKey(loop[i], loop[k])).faces == 0 &&
+                              !std::binary_search(avoid_edges.begin(), avoid_edges.end(), edgeKey(loop[i], loop[k]));
+    return usable;
+  };
+  // (`tested`, when given, gets each triangle tested against the surface, as places in the
+  // loop, and whether a surface face was found crossing it; `usable_known`, when given, is
+  // usableDiagonals(loop, avoid_faces))
+  auto refill = [&](const std::vector<int>& loop, const std::vector<Tri>& avoid_faces, std::vector<int>& hit_list,
+                    std::vector<std::pair<std::array<int, 3>, char>>* tested = nullptr,
+                    const std::vector<char>* usable_known = nullptr) {
+    std::vector<Tri> out;
+    const int n = static_cast<int>(loop.size());
+    auto at = [n](int i, int k) { return static_cast<std::size_t>(i) * static_cast<std::size_t>(n) + static_cast<std::size_t>(k); };
+    const std::vector<char> usable = usable_known ? *usable_known : usableDiagonals(loop, avoid_faces);
     // Per sub-polygon (i, k): its best triangulation's largest bend (1 - cos of the angle
     // between the normals of two faces across a diagonal), its area, and the apex and unit
     // normal of its face on the diagonal (i, k).
@@ -4504,6 +4551,7 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
           if (hit) hit_list.push_back(g);
           return !hit;
         });
+        if (tested) tested->push_back({x, static_cast<char>(hit)});
         for (std::size_t a = 0; !hit && a < avoid_faces.size(); ++a) hit = crosses(P, t, avoid_faces[a]);
         if (hit) excluded.insert(x), crossing = true;
       }
@@ -4521,7 +4569,69 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
     }
     return out;
   };
-  auto refillLoop = [&](std::size_t l) { fill[l] = refill(loops[l], avoid[l], hits[l]); };
+  // Loop l refilled avoiding avoid[l], or the same refill of the last round (see
+  // MouthMemory::Refilled); `made` gets the record of this one (its loop left empty when some
+  // point is not an arrangement point: not to be kept).
+  auto refillLoop = [&](std::size_t l, MouthMemory::Refilled& made) {
+    const std::vector<int>& loop = loops[l];
+    bool numbered = true;
+    auto arrangementPoint = [&](int v) {
+      numbered = numbered && static_cast<std::size_t>(v) < origin.size();
+      return numbered ? origin[static_cast<std::size_t>(v)] : -1;
+    };
+    for (const int v : loop) made.loop.push_back(arrangementPoint(v));
+    for (const Tri& t : avoid[l])
+      made.avoid.push_back(Tri{{arrangementPoint(t[0]), arrangementPoint(t[1]), arrangementPoint(t[2])}});
+    auto face = [&](const std::array<int, 3>& x) {  // (places i < m < k, oriented as refill's faces)
+      return Tri{{loop[static_cast<std::size_t>(x[0])], loop[static_cast<std::size_t>(x[2])], loop[static_cast<std::size_t>(x[1])]}};
+    };
+    made.usable = usableDiagonals(loop, avoid[l]);
+    const auto none = std::make_pair(memory.refilled.end(), memory.refilled.end());
+    const auto [first, last] =
+        numbered && refill_mode != detail::RefillMemory::kForget ? memory.refilled.equal_range(loop_hash[l]) : none;
+    for (auto it = first; it != last; ++it) {
+      const MouthMemory::Refilled& r = it->second;
+      if (r.loop != made.loop || r.avoid != made.avoid || r.usable != made.usable) continue;
+      // (a triangle found crossing is looked up in this surface again, which gives the face
+      // that the search would report; one found clear, among the new faces only)
+      std::vector<int> found;
+      bool same = true;
+      for (std::size_t j = 0; same && j < r.tested.size(); ++j) {
+        const Tri t = face(r.tested[j].first);
+        const Vec lo = V[t[0]].cwiseMin(V[t[1]]).cwiseMin(V[t[2]]), hi = V[t[0]].cwiseMax(V[t[1]]).cwiseMax(V[t[2]]);
+        if (r.tested[j].second) {
+          same = false;
+          surface.overlappingUntil(lo, hi, [&](int g) {
+            same = crosses(P, t, T[g]);
+            if (same) found.push_back(g);
+            return !same;
+          });
+        } else if (!changed_tris.empty()) {
+          changed.overlappingUntil(lo, hi, [&](int g) {
+            same = !crosses(P, t, changed_tris[static_cast<std::size_t>(g)]);
+            return same;
+          });
+        }
+      }
+      if (!same) continue;
+      made.tested = r.tested;
+      made.faces = r.faces;
+      fill[l].clear();
+      for (const auto& x : r.faces) fill[l].push_back(face(x));
+      made.taken = true;
+      if (refill_mode == detail::RefillMemory::kVerify) {
+        std::vector<int> found_anew;
+        std::vector<std::pair<std::array<int, 3>, char>> tested;
+        made.differs = refill(loop, avoid[l], found_anew, &tested, &made.usable) != fill[l] || tested != r.tested || found_anew != found;
+      }
+      hits[l].insert(hits[l].end(), found.begin(), found.end());
+      return;
+    }
+    fill[l] = refill(loop, avoid[l], hits[l], &made.tested, &made.usable);
+    auto place = [&](int v) { return static_cast<int>(std::find(loop.begin(), loop.end(), v) - loop.begin()); };
+    for (const Tri& t : fill[l]) made.faces.push_back({{place(t[0]), place(t[2]), place(t[1])}});
+    if (!numbered) made.loop.clear();
+  };
   // The strip filling of a loop (see kStripPoints): for each pair of its kStripTips sharpest
   // points that are at least a quarter of the loop apart, the two chains between them are
   // joined by the triangulation whose diagonals, each from one chain to the other, have the
@@ -4629,7 +4739,7 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
     clear_before[l] = same;
     remembered = remembered || same;
   }
-  if (remembered) {
+  if (remembered || !memory.refilled.empty()) {  // (the faces new since the last round; see MouthMemory)
     for (std::size_t g = 0; g < T.size(); ++g) {
       const auto f = static_cast<std::size_t>(face_of[g]);
       if (f >= memory.surface.size() || !memory.surface[f]) {
@@ -4684,9 +4794,20 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
     fresh[l] = bad[l] && !keeps[l] && loops[l].size() >= 3 && loops[l].size() <= kRefillPoints;
     again = again || fresh[l];
   }
-  parallelFor(0, loops.size(), threads, [&](std::size_t l) {
-    if (fresh[l]) refillLoop(l);
-  });
+  {
+    std::vector<MouthMemory::Refilled> made(loops.size());
+    parallelFor(0, loops.size(), threads, [&](std::size_t l) {
+      if (fresh[l]) refillLoop(l, made[l]);
+    });
+    memory.refilled.clear();
+    std::size_t taken = 0, differing = 0;
+    for (std::size_t l = 0; l < loops.size(); ++l) {
+      if (!fresh[l]) continue;
+      taken += made[l].taken, differing += made[l].differs;
+      if (!made[l].loop.empty()) memory.refilled.emplace(loop_hash[l], std::move(made[l]));
+    }
+    detail::countRefills(taken, differing);
+  }
   if (again) bad = badLoops(fresh);
   // The fans, their new points numbered in loop order.
   again = false;
