@@ -52,6 +52,16 @@ using steady::sweep::sweptEnvelope;
 using steady::sweep::SweptVolume;
 using namespace steady_sweep_test;
 
+// A bundled mesh (data/meshes/NAME.off), and a bundled motion (data/motions/NAME.json) fitted to
+// a mesh's box, as the CLI fits it.
+Mesh bundledMesh(const char* name) {
+  const steady::io::TriangleMesh t = steady::io::readMesh(std::string(STEADY_DATA_DIR "/meshes/") + name + ".off");
+  return Mesh{t.vertices, t.faces};
+}
+Motion3 bundledMotion(const char* name, const Mesh& m) {
+  return steady::io::readMotionFile(std::string(STEADY_DATA_DIR "/motions/") + name + ".json").motion().toMotion(makeBody(m).box());
+}
+
 // ---- analytic volumes --------------------------------------------------------------------------
 
 TEST(Envelope, BoxTranslatedIsTheMinkowskiSum) {
@@ -233,10 +243,8 @@ TEST(Envelope, PolySamJointsLeaveNoWholeBody) {
 TEST(Envelope, PolySamJointCapsAreMerged) {
   for (const char* name : {"tetrahedron", "box"}) {
     SCOPED_TRACE(name);
-    const steady::io::TriangleMesh t = steady::io::readMesh(std::string(STEADY_DATA_DIR "/meshes/") + name + ".off");
-    const Mesh m{t.vertices, t.faces};
-    const Motion3 motion =
-        steady::io::readMotionFile(STEADY_DATA_DIR "/motions/keys.json").motion().toMotion(makeBody(m).box());
+    const Mesh m = bundledMesh(name);
+    const Motion3 motion = bundledMotion("keys", m);
     ASSERT_GT(motion.spanCount(), 32u);
     const Envelope env = sweep(m, motion);
     std::printf("[ info     ] %s along keys.json: cycle %zu triangles, %zu crossing pairs\n", name,
@@ -375,16 +383,7 @@ TEST(Envelope, TurnsOfTheBoxInItsPlane) {
 // have coplanar crossings; the box with a second copy of itself as another shell has twins
 // (every cap triangle and every strip triangle twice), and sweeps the box's own envelope.
 TEST(Envelope, CoincidentFacesAsFoundAmongAllFaces) {
-  auto bundled = [](const char* name) {
-    const steady::io::TriangleMesh t = steady::io::readMesh(std::string(STEADY_DATA_DIR "/meshes/") + name + ".off");
-    return Mesh{t.vertices, t.faces};
-  };
-  auto motionFile = [](const char* name, const Mesh& m) {
-    return steady::io::readMotionFile(std::string(STEADY_DATA_DIR "/motions/") + name + ".json")
-        .motion()
-        .toMotion(makeBody(m).box());
-  };
-  Mesh doubled = bundled("box");
+  Mesh doubled = bundledMesh("box");
   const int n = static_cast<int>(doubled.v.size());
   for (std::size_t f = 0, nf = doubled.f.size(); f < nf; ++f)
     doubled.f.push_back({{doubled.f[f][0] + n, doubled.f[f][1] + n, doubled.f[f][2] + n}});
@@ -395,13 +394,13 @@ TEST(Envelope, CoincidentFacesAsFoundAmongAllFaces) {
     Motion3 motion;
     const Mesh* same_envelope_as;  // (a body whose envelope along the motion must be the same, or null)
   };
-  const Mesh bracket = bundled("bracket"), tetrahedron = bundled("tetrahedron"), box = bundled("box");
+  const Mesh bracket = bundledMesh("bracket"), tetrahedron = bundledMesh("tetrahedron"), box = bundledMesh("box");
   const Case cases[] = {
-      {"bracket along screw.json", bracket, motionFile("screw", bracket), nullptr},
-      {"tetrahedron along keys.json", tetrahedron, motionFile("keys", tetrahedron), nullptr},
+      {"bracket along screw.json", bracket, bundledMotion("screw", bracket), nullptr},
+      {"tetrahedron along keys.json", tetrahedron, bundledMotion("keys", tetrahedron), nullptr},
       {"box turning 90 degrees in its plane", box,
        single(Affine3(), Affine3::translation(V(2, 0.5, 0)) * Affine3::rotationDegrees(V(0, 0, 1), 90)), nullptr},
-      {"box doubled along screw.json", doubled, motionFile("screw", doubled), &box}};
+      {"box doubled along screw.json", doubled, bundledMotion("screw", doubled), &box}};
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
     const Envelope flagged = sweep(c.mesh, c.motion);
@@ -1029,28 +1028,19 @@ SampleOnScrew cgalSampleOnTheBenchmarkScrew(const std::string& name) {
 TEST(Envelope, RefillsTakenFromTheRoundBeforeAsSearchedAnew) {
   using steady::sweep::detail::RefillMemory;
   using steady::sweep::detail::RefillMemoryProbe;
-  auto bundled = [](const char* name) {
-    const steady::io::TriangleMesh t = steady::io::readMesh(std::string(STEADY_DATA_DIR "/meshes/") + name + ".off");
-    return Mesh{t.vertices, t.faces};
-  };
-  auto motionFile = [](const char* name, const Mesh& m) {
-    return steady::io::readMotionFile(std::string(STEADY_DATA_DIR "/motions/") + name + ".json")
-        .motion()
-        .toMotion(makeBody(m).box());
-  };
   struct Case {
     std::string name;
     Mesh mesh;
     Motion3 motion;
     double relative;
   };
-  const Mesh bracket = bundled("bracket");
-  std::vector<Case> cases = {{"bracket along keys.json at 1e-3", bracket, motionFile("keys", bracket), 1e-3}};
+  const Mesh bracket = bundledMesh("bracket");
+  std::vector<Case> cases = {{"bracket along keys.json at 1e-3", bracket, bundledMotion("keys", bracket), 1e-3}};
 #ifdef STEADY_CGAL_MESHES
   const steady::io::TriangleMesh read = steady::io::readMesh(std::string(STEADY_CGAL_MESHES) + "/sphere.off");
   const Mesh sphere{read.vertices, read.faces};  // (as read, as the CLI sweeps it)
-  cases.push_back({"CGAL's sphere along screw.json at 1e-2", sphere, motionFile("screw", sphere), 1e-2});
-  cases.push_back({"CGAL's sphere along keys.json at 5e-3", sphere, motionFile("keys", sphere), 5e-3});
+  cases.push_back({"CGAL's sphere along screw.json at 1e-2", sphere, bundledMotion("screw", sphere), 1e-2});
+  cases.push_back({"CGAL's sphere along keys.json at 5e-3", sphere, bundledMotion("keys", sphere), 5e-3});
 #endif
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
