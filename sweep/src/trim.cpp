@@ -4466,8 +4466,8 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
   // all triangulations (O(n^3) over the loop's n points); its triangles are then tested
   // against the surface, avoid_faces and each other, and those that cross are excluded from the
   // next search, up to kRefillSearches searches. Returns the filling's faces (none when none is
-  // found); the surface faces found crossing are added to `hit_list`. refillLoop(l) refills
-  // loop l, avoiding avoid[l].
+  // found); the surface faces found crossing are added to `hit_list`. refillLoop (below)
+  // refills a loop avoiding its avoid[l], or takes its refill from the round before.
   // (the diagonals (i, k), i < k, at i * n + k, that the refill may take: not an edge of the
   // surface nor of the faces to avoid)
   auto usableDiagonals = [&](const std::vector<int>& loop, const std::vector<Tri>& avoid_faces) {
