@@ -4570,25 +4570,19 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
     return out;
   };
   // Loop l refilled avoiding avoid[l], or the same refill of the last round (see
-  // MouthMemory::Refilled); `made` gets the record of this one (its loop left empty when some
-  // point is not an arrangement point: not to be kept).
+  // MouthMemory::Refilled); `made` gets the record of this one. (The loops and the faces they
+  // avoid are on the selection's points here, each an arrangement point: the fans' new points
+  // come later.)
   auto refillLoop = [&](std::size_t l, MouthMemory::Refilled& made) {
     const std::vector<int>& loop = loops[l];
-    bool numbered = true;
-    auto arrangementPoint = [&](int v) {
-      numbered = numbered && static_cast<std::size_t>(v) < origin.size();
-      return numbered ? origin[static_cast<std::size_t>(v)] : -1;
-    };
-    for (const int v : loop) made.loop.push_back(arrangementPoint(v));
-    for (const Tri& t : avoid[l])
-      made.avoid.push_back(Tri{{arrangementPoint(t[0]), arrangementPoint(t[1]), arrangementPoint(t[2])}});
+    for (const int v : loop) made.loop.push_back(origin[static_cast<std::size_t>(v)]);
+    for (const Tri& t : avoid[l]) made.avoid.push_back(originOf(t));
     auto face = [&](const std::array<int, 3>& x) {  // (places i < m < k, oriented as refill's faces)
       return Tri{{loop[static_cast<std::size_t>(x[0])], loop[static_cast<std::size_t>(x[2])], loop[static_cast<std::size_t>(x[1])]}};
     };
     made.usable = usableDiagonals(loop, avoid[l]);
     const auto none = std::make_pair(memory.refilled.end(), memory.refilled.end());
-    const auto [first, last] =
-        numbered && refill_mode != detail::RefillMemory::kForget ? memory.refilled.equal_range(loop_hash[l]) : none;
+    const auto [first, last] = refill_mode != detail::RefillMemory::kForget ? memory.refilled.equal_range(loop_hash[l]) : none;
     for (auto it = first; it != last; ++it) {
       const MouthMemory::Refilled& r = it->second;
       if (r.loop != made.loop || r.avoid != made.avoid || r.usable != made.usable) continue;
@@ -4630,7 +4624,6 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
     fill[l] = refill(loop, avoid[l], hits[l], &made.tested, &made.usable);
     auto place = [&](int v) { return static_cast<int>(std::find(loop.begin(), loop.end(), v) - loop.begin()); };
     for (const Tri& t : fill[l]) made.faces.push_back({{place(t[0]), place(t[2]), place(t[1])}});
-    if (!numbered) made.loop.clear();
   };
   // The strip filling of a loop (see kStripPoints): for each pair of its kStripTips sharpest
   // points that are at least a quarter of the loop apart, the two chains between them are
@@ -4804,7 +4797,7 @@ long fillMouths(std::vector<Vec>& V, std::vector<Tri>& T, double eps_t, std::vec
     for (std::size_t l = 0; l < loops.size(); ++l) {
       if (!fresh[l]) continue;
       taken += made[l].taken, differing += made[l].differs;
-      if (!made[l].loop.empty()) memory.refilled.emplace(loop_hash[l], std::move(made[l]));
+      memory.refilled.emplace(loop_hash[l], std::move(made[l]));
     }
     detail::countRefills(taken, differing);
   }
