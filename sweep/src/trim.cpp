@@ -128,10 +128,12 @@ void checkCancel(const std::atomic<bool>* flag, const char* stage, const char* w
 }
 class CancelScope {
  public:
+  // (checked before the slots are set: a constructor that throws runs no destructor, and the
+  // slots would keep pointing at the caller's flag after it is gone)
   explicit CancelScope(const std::atomic<bool>* flag) : flag_(sweep_cancel), stage_(sweep_stage) {
+    checkCancel(flag, nullptr, "before it began");
     sweep_cancel = flag;
     sweep_stage = nullptr;
-    checkCancel(flag, nullptr, "before it began");
   }
   ~CancelScope() { sweep_cancel = flag_, sweep_stage = stage_; }
   CancelScope(const CancelScope&) = delete;
