@@ -35,6 +35,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <map>
 #include <string>
 
 namespace {
@@ -505,6 +506,64 @@ TEST(Envelope, AffineSpanKeepingAPlane) {
     std::mt19937_64 rng(50);
     checkEnvelope(m, motion, env, epsOf(m, relative), rng, "tetrahedron, shear keeping z", CheckOptions{});
   }
+}
+
+// Cap sides cut finely (README, "Long cap edges"): the L-shaped prism of the sweep fuzz target
+// along a shear (z += 2.25 y) with a unit translation. Its trajectories are straight, so its
+// strips need pieces in proportion to 1/eps, and at 1e-3 two cap faces have 786 and 1,569
+// points on their sides. Fanned around one point, each made that many thin triangles whose
+// boxes all met (n^2 pairs for the crossing tests, and again for the output's check, 3 s at
+// 5e-4); they are triangulated in graded rings now (cycle.cpp, kGradedCapPoints). The cycle
+// must stay a closed chain of cap triangles with area, no vertex may lie in more than
+// kGradedCapPoints (256) of them (a fan's apex lies in all of its triangles: 1,569), and their
+// boxes may meet in fewer than 50 pairs per cap triangle (the rings: 29; the fans: 588).
+TEST(Envelope, LongCapSidesAreTriangulatedInGradedRings) {
+  const steady::io::TriangleMesh t = steady::io::readMesh(STEADY_TEST_FIXTURES "/l_prism.off");
+  const Mesh m{t.vertices, t.faces};
+  const Motion3 motion =
+      steady::io::readMotionFile(STEADY_TEST_FIXTURES "/l_prism_shear.json").motion().toMotion(makeBody(m).box());
+  {
+    const Body body(m.v, m.f);
+    const auto plan = steady::sweep::detail::planSpan(body, motion.span(0), nullptr, 0.5 * epsOf(m, 1e-3),
+                                                      steady::sweep::GrazingOptions{}, 1 << 16, 0);
+    steady::sweep::detail::Cycle cycle;
+    steady::sweep::detail::appendSpanCycle(cycle, nullptr, *plan, nullptr);
+    // (a single span's caps come first)
+    const std::vector<std::array<int, 3>> caps(cycle.triangles.begin(),
+                                               cycle.triangles.begin() + static_cast<std::ptrdiff_t>(cycle.cap_triangles));
+    ASSERT_GT(caps.size(), 2000u);
+    std::map<std::pair<int, int>, int> net;  // directed edges: +1 as (a, b) with a < b, -1 reversed
+    for (const auto& tri : cycle.triangles)
+      for (int k = 0; k < 3; ++k) {
+        const int a = tri[k], b = tri[(k + 1) % 3];
+        net[{std::min(a, b), std::max(a, b)}] += a < b ? 1 : -1;
+      }
+    std::size_t unmatched = 0;
+    for (const auto& [edge, n] : net) unmatched += n != 0;
+    EXPECT_EQ(unmatched, 0u) << "the cycle is a closed chain";
+    std::map<int, int> valence;
+    for (const auto& tri : caps)
+      for (const int v : tri) ++valence[v];
+    int most = 0;
+    for (const auto& [v, n] : valence) most = std::max(most, n);
+    EXPECT_LE(most, 256) << "a vertex in that many cap triangles: a fan";
+    std::vector<std::array<V, 2>> box(caps.size());
+    for (std::size_t i = 0; i < caps.size(); ++i) {
+      const V &a = cycle.vertices[caps[i][0]], &b = cycle.vertices[caps[i][1]], &c = cycle.vertices[caps[i][2]];
+      box[i] = {{a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c)}};
+      EXPECT_GT((b - a).cross(c - a).norm(), 1e-12 * std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()}))
+          << "cap triangle " << i << " has no area";
+    }
+    std::size_t pairs = 0;
+    for (std::size_t i = 0; i < caps.size(); ++i)
+      for (std::size_t j = i + 1; j < caps.size(); ++j)
+        pairs += (box[i][0].array() <= box[j][1].array()).all() && (box[j][0].array() <= box[i][1].array()).all();
+    EXPECT_LE(pairs, 50 * caps.size()) << "cap triangles whose boxes meet";
+  }
+  const Envelope env = sweep(m, motion, 1e-3);
+  expectOneEmbeddedShell(env);
+  std::mt19937_64 rng(53);
+  checkEnvelope(m, motion, env, epsOf(m, 1e-3), rng, "L-shaped prism along a shear, long cap sides", CheckOptions{});
 }
 
 // A thin plate stretched by an affine pose and brought back along the same path (a sweep fuzz
