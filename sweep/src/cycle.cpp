@@ -33,7 +33,8 @@
 // boundary segment is oriented with Front on its left (the front polygon's winding), swept
 // into a strip (tessellation.hpp gives the time grid and the pieces), and every point where a
 // strip meets a cap (its ends and subdivision points at τ = 0 and 1) is also a vertex of the
-// cap polygons, which are cut exactly along the chords and fanned into triangles.
+// cap polygons, which are cut exactly along the chords and fanned into triangles (or, with
+// more than kGradedCapPoints points, triangulated in graded rings).
 //
 // Concave edges. Where the body is concave along a boundary edge of Front, the strip the edge
 // sweeps lies inside the swept volume: near the edge the body is the union of its two faces'
@@ -81,18 +82,18 @@ constexpr double kFixedCutMargin = 1e-9;
 // through its τ = 0 ends sweeps no area (see "Strips that slide along themselves" below); the
 // snap moves vertices by at most 1e-9 ε.
 constexpr double kOnLine = 1e-9;
-// Cap polygons with more points than this are triangulated in graded rings (see gradedCap)
+// Cap polygons with more points than this are triangulated in graded rings (see emitPolygon)
 // instead of fanned around one interior point. A fan of n triangles on a side cut into n pieces
 // puts n thin triangles about one apex whose boxes all meet: n² pairs for the crossing tests,
 // and n² again for the output's self-intersection check, since those triangles reach the
 // envelope. Sides are cut that finely where strips need many pieces along straight trajectories
 // (shears and scalings: pieces in proportion to 1/ε). Below it a fan is as fast as the rings,
 // which make three times as many triangles: the L-shaped prism of LongCapSidesAreTriangulated-
-// InGradedRings at 1e-2 (cap sides of 78 and 157 points) took 0.026-0.035 s fanned, 0.039-
-// 0.052 s in rings from 64 points on, 0.026-0.030 s with this bound; at 5e-3 and 2e-3 the rings
-// were as fast or faster. (The CGAL sample meshes' caps have at most 10 points on the benchmark
-// screws, and the bundled meshes' at most 85 on the bundled motions: their envelopes are those
-// of the fans.)
+// InGradedRings at 1e-2 (its largest caps between 65 and 256 points) took 0.026-0.035 s
+// fanned, 0.039-0.052 s in rings from 64 points on, 0.026-0.030 s with this bound; at 5e-3 and
+// 2e-3 the rings were as fast or faster. (The 9 bundled scenes and the elephant along
+// screw.json at the default tolerance, knot1 along screw_scale.json and CGAL's sphere along
+// keys.json at 5e-3 have no larger caps: their envelopes are those of the fans, bit for bit.)
 constexpr std::size_t kGradedCapPoints = 256;
 
 int sgn(double x) { return (x > 0) - (x < 0); }
@@ -806,7 +807,8 @@ void appendSpanCycle(Cycle& out, const SpanPlan* prev, const SpanPlan& plan, con
 
   // 6. Caps: Back (and Grazing) polygons at τ = 0 (reversed Front polygons when the span
   // continues a polySAM), Front polygons at τ = 1, with every point that lies on their sides,
-  // fanned into triangles (`reversed`: against the polygon's winding).
+  // fanned into triangles or triangulated in graded rings (`reversed`: against the polygon's
+  // winding).
   auto emitPolygon = [&](int f, const std::vector<Corner>& poly, bool at_end, bool reversed) {
     auto emit = [&](int a, int b, int c) {
       out.triangles.push_back(reversed ? std::array<int, 3>{{a, c, b}} : std::array<int, 3>{{a, b, c}});
