@@ -95,6 +95,7 @@ constexpr double kOnLine = 1e-9;
 // screw.json at the default tolerance, knot1 along screw_scale.json and CGAL's sphere along
 // keys.json at 5e-3 have no larger caps: their envelopes are those of the fans, bit for bit.)
 constexpr std::size_t kGradedCapPoints = 256;
+thread_local bool fan_every_cap = false;  // (see FanEveryCap)
 
 int sgn(double x) { return (x > 0) - (x < 0); }
 
@@ -880,7 +881,7 @@ void appendSpanCycle(Cycle& out, const SpanPlan* prev, const SpanPlan& plan, con
     }
     auto pose = [&](int q) { return at_end ? at1(q) : at0(q); };
     const int cv = combination(pose(F[f][0]), pose(F[f][1]), pose(F[f][2]), l[1], l[2]);
-    if (m <= kGradedCapPoints) {
+    if (m <= kGradedCapPoints || fan_every_cap) {
       for (std::size_t i = 0; i < m; ++i) emit(cv, id(full[i]), id(full[(i + 1) % m]));
       return;
     }
@@ -1177,6 +1178,9 @@ void appendSpanCycle(Cycle& out, const SpanPlan* prev, const SpanPlan& plan, con
         if (x.vid >= 0) out.joint_edge[e].emplace_back(x.r, x.vid);
   }
 }
+
+FanEveryCap::FanEveryCap() : before_(fan_every_cap) { fan_every_cap = true; }
+FanEveryCap::~FanEveryCap() { fan_every_cap = before_; }
 
 void cancelOpposite(Cycle& cycle) {
   // Per triangle: its set of three vertices (sorted), its position, and +1 in one orientation

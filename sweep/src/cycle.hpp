@@ -97,6 +97,21 @@ SpanPlanPtr planSpan(const Body& body, const Span3& span, const Affine3* end_pos
 // otherwise it throws steady::Error.
 void appendSpanCycle(Cycle& out, const SpanPlan* prev, const SpanPlan& plan, const SpanPlan* next);
 
+// A test switch: while an object of this type lives, appendSpanCycle on the thread that made it
+// fans every cap polygon around one point, however many points it has (no graded rings; see
+// kGradedCapPoints in cycle.cpp). Both cover the same polygons, which tests check by comparing
+// them. Objects may nest; each restores the setting it found.
+class FanEveryCap {
+ public:
+  FanEveryCap();
+  ~FanEveryCap();
+  FanEveryCap(const FanEveryCap&) = delete;
+  FanEveryCap& operator=(const FanEveryCap&) = delete;
+
+ private:
+  bool before_;
+};
+
 // Removes from the cycle's triangles every pair of the same three vertices in opposite
 // orientations (their sum as a chain is zero, so the winding numbers stay), keeping the
 // triangles that remain in their order. (A polySAM's joints leave such pairs where the caps of a

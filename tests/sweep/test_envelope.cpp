@@ -566,6 +566,84 @@ TEST(Envelope, LongCapSidesAreTriangulatedInGradedRings) {
   checkEnvelope(m, motion, env, epsOf(m, 1e-3), rng, "L-shaped prism along a shear, long cap sides", CheckOptions{});
 }
 
+// Graded rings against fans (detail::FanEveryCap), on seeded random spans whose trajectories
+// are straight (a shear I + u v^T with v . u = 0, and a translation), so that strips cut cap
+// sides finely: the bundled box, tetrahedron and bracket and the L-shaped prism at 5e-4. Both
+// cycles must be closed chains, and the caps must cover the same polygons once: the same
+// volume (divergence theorem, as a sum of tetrahedra from one point) and the same sum of
+// unsigned cap triangle areas (a triangle turned over, or two that overlap, adds to it), to
+// 1e-9 of those sums; no graded cap triangle may be without area. At least a third of the
+// spans must use the rings (their cap triangle counts differ).
+TEST(Envelope, GradedCapsCoverWhatTheFansCover) {
+  namespace d = steady::sweep::detail;
+  const std::vector<std::pair<std::string, Mesh>> meshes = {
+      {"box", bundledMesh("box")},
+      {"tetrahedron", bundledMesh("tetrahedron")},
+      {"bracket", bundledMesh("bracket")},
+      {"l_prism", [] {
+         const steady::io::TriangleMesh t = steady::io::readMesh(STEADY_TEST_FIXTURES "/l_prism.off");
+         return Mesh{t.vertices, t.faces};
+       }()}};
+  struct Measures {
+    double volume = 0, volume_scale = 0, cap_area = 0;
+    std::size_t caps = 0, thin = 0;
+    bool closed = true;
+  };
+  auto measure = [](const d::Cycle& c) {
+    Measures out;
+    std::map<std::pair<int, int>, int> net;
+    const V o = c.vertices.front();
+    for (std::size_t i = 0; i < c.triangles.size(); ++i) {
+      const auto& tri = c.triangles[i];
+      const V a = c.vertices[tri[0]] - o, b = c.vertices[tri[1]] - o, e = c.vertices[tri[2]] - o;
+      const double six = a.dot(b.cross(e));
+      out.volume += six / 6, out.volume_scale += std::abs(six) / 6;
+      for (int k = 0; k < 3; ++k) net[{std::min(tri[k], tri[(k + 1) % 3]), std::max(tri[k], tri[(k + 1) % 3])}] +=
+                                      tri[k] < tri[(k + 1) % 3] ? 1 : -1;
+      if (i < c.cap_triangles) {
+        const double twice = (b - a).cross(e - a).norm();
+        out.cap_area += twice / 2;
+        out.thin += !(twice > 1e-12 * std::max({(b - a).squaredNorm(), (e - b).squaredNorm(), (a - e).squaredNorm()}));
+      }
+    }
+    for (const auto& [edge, n] : net) out.closed = out.closed && n == 0;
+    out.caps = c.cap_triangles;
+    return out;
+  };
+  std::mt19937_64 rng(71);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), size(0.5, 2.5);
+  std::size_t spans = 0, graded = 0;
+  for (const auto& [name, m] : meshes)
+    for (int k = 0; k < 6; ++k) {
+      const Body body(m.v, m.f);
+      const double diag = body.box().diagonal();
+      const V v = V(unit(rng), unit(rng), unit(rng)).normalized();
+      V u(unit(rng), unit(rng), unit(rng));
+      u = (u - u.dot(v) * v).normalized() * size(rng);
+      Eigen::Matrix3d L = Eigen::Matrix3d::Identity() + u * v.transpose();
+      const V t = k % 2 ? V(diag * V(unit(rng), unit(rng), unit(rng))) : V::Zero();
+      const Span3 span = Span3::between(Affine3(), Affine3(L, t));
+      const std::string what = name + " span " + std::to_string(k);
+      const auto plan = d::planSpan(body, span, nullptr, 0.5 * 5e-4 * diag, steady::sweep::GrazingOptions{}, 1 << 16, 0);
+      d::Cycle rings, fans;
+      d::appendSpanCycle(rings, nullptr, *plan, nullptr);
+      {
+        const d::FanEveryCap fan;
+        d::appendSpanCycle(fans, nullptr, *plan, nullptr);
+      }
+      const Measures r = measure(rings), f = measure(fans);
+      ++spans;
+      graded += r.caps != f.caps;
+      EXPECT_TRUE(r.closed) << what;
+      EXPECT_TRUE(f.closed) << what;
+      EXPECT_EQ(r.thin, 0u) << what;
+      EXPECT_NEAR(r.volume, f.volume, 1e-9 * f.volume_scale) << what;
+      EXPECT_NEAR(r.cap_area, f.cap_area, 1e-9 * f.cap_area) << what;
+    }
+  std::printf("[ info     ] graded rings in %zu of %zu random straight-trajectory spans\n", graded, spans);
+  EXPECT_GE(3 * graded, spans) << "too few spans reach the rings: finer tolerance or other spans";
+}
+
 // A thin plate stretched by an affine pose and brought back along the same path (a sweep fuzz
 // input, tests/fuzz/corpus/sweep/plate_stretch_label_rays): the second span's velocities are the
 // first's negated, so both spans split the bottom face along one grazing line, and the caps they
