@@ -193,6 +193,25 @@ struct LinePlacement {
   int a = -1, b = -1;
 };
 
+// The coordinates (s, t) of a point x of the plane of a triangle (a, b, c):
+// x = a + s (b - a) + t (c - a), from the normal equations (the nearest such point for an x off
+// the plane). Keeps copies of the corners.
+class PlaneCoordinates {
+ public:
+  PlaneCoordinates(const Vec& a, const Vec& b, const Vec& c)
+      : a_(a), u1_(b - a), u2_(c - a), g11_(u1_.dot(u1_)), g12_(u1_.dot(u2_)), g22_(u2_.dot(u2_)),
+        det_(g11_ * g22_ - g12_ * g12_) {}
+  std::array<double, 2> operator()(const Vec& x) const {
+    const Vec d = x - a_;
+    const double b1 = u1_.dot(d), b2 = u2_.dot(d);
+    return {{(g22_ * b1 - g12_ * b2) / det_, (g11_ * b2 - g12_ * b1) / det_}};
+  }
+
+ private:
+  Vec a_, u1_, u2_;
+  double g11_, g12_, g22_, det_;
+};
+
 // The time grid of one connected component of the boundary curves.
 struct Grid {
   std::vector<double> tau;
@@ -912,9 +931,7 @@ void appendSpanCycle(Cycle& out, const SpanPlan* prev, const SpanPlan& plan, con
     ring0.insert(ring0.end(), full.begin(), full.begin() + static_cast<std::ptrdiff_t>(first));
     std::vector<int> level(m, std::numeric_limits<int>::max());
     std::vector<std::array<double, 2>> st(m);  // (s, t) of each point on A, B, C
-    const Vec pA = out.vertices[A];
-    const Vec u1 = out.vertices[B] - pA, u2 = out.vertices[C] - pA;
-    const double g11 = u1.dot(u1), g12 = u1.dot(u2), g22 = u2.dot(u2), det = g11 * g22 - g12 * g12;
+    const PlaneCoordinates onFace(out.vertices[A], out.vertices[B], out.vertices[C]);
     const Vec pG = out.vertices[cv];
     double finest = std::numeric_limits<double>::infinity(), nearest = finest;
     int top = 0;  // the largest level of a point that is not a true corner
@@ -929,9 +946,7 @@ void appendSpanCycle(Cycle& out, const SpanPlan* prev, const SpanPlan& plan, con
         const auto b = barycentric(plan, ring0[i].point, f);
         st[i] = {{b[1], b[2]}};
       } else {  // (a neighbour's point at a joint: from its coordinates)
-        const Vec d = out.vertices[id(ring0[i])] - pA;
-        const double b1 = u1.dot(d), b2 = u2.dot(d);
-        st[i] = {{(g22 * b1 - g12 * b2) / det, (g11 * b2 - g12 * b1) / det}};
+        st[i] = onFace(out.vertices[id(ring0[i])]);
       }
       // (per side with points on it: its spacing, and its distance from G)
       if (ring0[i].true_corner) {
@@ -1027,9 +1042,8 @@ void appendSpanCycle(Cycle& out, const SpanPlan* prev, const SpanPlan& plan, con
     }
     // Closed loops of the boundary (each vertex has as many edges in as out).
     const int A = at0(F[f][0]), B = at0(F[f][1]), C = at0(F[f][2]);
-    const Vec pa = out.vertices[A];  // (a copy: combination() below grows out.vertices)
-    const Vec u1 = out.vertices[B] - pa, u2 = out.vertices[C] - pa;
-    const double g11 = u1.dot(u1), g12 = u1.dot(u2), g22 = u2.dot(u2), det = g11 * g22 - g12 * g12;
+    // (copies of the corners: combination() below grows out.vertices)
+    const PlaneCoordinates onFace(out.vertices[A], out.vertices[B], out.vertices[C]);
     std::vector<char> used(edges.size(), 0);
     for (std::size_t first = 0; first < edges.size(); ++first) {
       if (used[first]) continue;
@@ -1050,9 +1064,8 @@ void appendSpanCycle(Cycle& out, const SpanPlan* prev, const SpanPlan& plan, con
       Vec mean = Vec::Zero();
       for (int v : loop) mean += out.vertices[v];
       mean /= static_cast<double>(loop.size());
-      const Vec d = mean - pa;
-      const double b1 = u1.dot(d), b2 = u2.dot(d);
-      const int cv = combination(A, B, C, (g22 * b1 - g12 * b2) / det, (g11 * b2 - g12 * b1) / det);
+      const std::array<double, 2> st = onFace(mean);
+      const int cv = combination(A, B, C, st[0], st[1]);
       for (std::size_t k = 0; k < loop.size(); ++k) {
         out.triangles.push_back({{cv, loop[k], loop[(k + 1) % loop.size()]}});
         ++out.cap_triangles;

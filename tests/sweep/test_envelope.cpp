@@ -508,6 +508,25 @@ TEST(Envelope, AffineSpanKeepingAPlane) {
   }
 }
 
+// The undirected edges of a cycle's triangles not used as often one way as the other (none:
+// the cycle is a closed chain).
+std::size_t unmatchedEdges(const std::vector<std::array<int, 3>>& triangles) {
+  std::map<std::pair<int, int>, int> net;  // +1 as (a, b) with a < b, -1 reversed
+  for (const auto& tri : triangles)
+    for (int k = 0; k < 3; ++k) {
+      const int a = tri[k], b = tri[(k + 1) % 3];
+      net[{std::min(a, b), std::max(a, b)}] += a < b ? 1 : -1;
+    }
+  std::size_t unmatched = 0;
+  for (const auto& [edge, n] : net) unmatched += n != 0;
+  return unmatched;
+}
+
+// Whether the triangle (a, b, c) has area: twice its area above 1e-12 of its longest side squared.
+bool hasArea(const V& a, const V& b, const V& c) {
+  return (b - a).cross(c - a).norm() > 1e-12 * std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+}
+
 // Cap sides cut finely (README, "Long cap edges"): the L-shaped prism of the sweep fuzz target
 // along a shear (z += 2.25 y) with a unit translation. Its trajectories are straight, so its
 // strips need pieces in proportion to 1/eps, and at 1e-3 two cap faces have 786 and 1,569
@@ -532,15 +551,7 @@ TEST(Envelope, LongCapSidesAreTriangulatedInGradedRings) {
     const std::vector<std::array<int, 3>> caps(cycle.triangles.begin(),
                                                cycle.triangles.begin() + static_cast<std::ptrdiff_t>(cycle.cap_triangles));
     ASSERT_GT(caps.size(), 2000u);
-    std::map<std::pair<int, int>, int> net;  // directed edges: +1 as (a, b) with a < b, -1 reversed
-    for (const auto& tri : cycle.triangles)
-      for (int k = 0; k < 3; ++k) {
-        const int a = tri[k], b = tri[(k + 1) % 3];
-        net[{std::min(a, b), std::max(a, b)}] += a < b ? 1 : -1;
-      }
-    std::size_t unmatched = 0;
-    for (const auto& [edge, n] : net) unmatched += n != 0;
-    EXPECT_EQ(unmatched, 0u) << "the cycle is a closed chain";
+    EXPECT_EQ(unmatchedEdges(cycle.triangles), 0u) << "the cycle is a closed chain";
     std::map<int, int> valence;
     for (const auto& tri : caps)
       for (const int v : tri) ++valence[v];
@@ -551,8 +562,7 @@ TEST(Envelope, LongCapSidesAreTriangulatedInGradedRings) {
     for (std::size_t i = 0; i < caps.size(); ++i) {
       const V &a = cycle.vertices[caps[i][0]], &b = cycle.vertices[caps[i][1]], &c = cycle.vertices[caps[i][2]];
       box[i] = {{a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c)}};
-      EXPECT_GT((b - a).cross(c - a).norm(), 1e-12 * std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()}))
-          << "cap triangle " << i << " has no area";
+      EXPECT_TRUE(hasArea(a, b, c)) << "cap triangle " << i << " has no area";
     }
     std::size_t pairs = 0;
     for (std::size_t i = 0; i < caps.size(); ++i)
@@ -591,22 +601,18 @@ TEST(Envelope, GradedCapsCoverWhatTheFansCover) {
   };
   auto measure = [](const d::Cycle& c) {
     Measures out;
-    std::map<std::pair<int, int>, int> net;
     const V o = c.vertices.front();
     for (std::size_t i = 0; i < c.triangles.size(); ++i) {
       const auto& tri = c.triangles[i];
       const V a = c.vertices[tri[0]] - o, b = c.vertices[tri[1]] - o, e = c.vertices[tri[2]] - o;
       const double six = a.dot(b.cross(e));
       out.volume += six / 6, out.volume_scale += std::abs(six) / 6;
-      for (int k = 0; k < 3; ++k) net[{std::min(tri[k], tri[(k + 1) % 3]), std::max(tri[k], tri[(k + 1) % 3])}] +=
-                                      tri[k] < tri[(k + 1) % 3] ? 1 : -1;
       if (i < c.cap_triangles) {
-        const double twice = (b - a).cross(e - a).norm();
-        out.cap_area += twice / 2;
-        out.thin += !(twice > 1e-12 * std::max({(b - a).squaredNorm(), (e - b).squaredNorm(), (a - e).squaredNorm()}));
+        out.cap_area += (b - a).cross(e - a).norm() / 2;
+        out.thin += !hasArea(a, b, e);
       }
     }
-    for (const auto& [edge, n] : net) out.closed = out.closed && n == 0;
+    out.closed = unmatchedEdges(c.triangles) == 0;
     out.caps = c.cap_triangles;
     return out;
   };
