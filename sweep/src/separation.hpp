@@ -86,25 +86,35 @@ inline bool meetAtSharedCornerOnly(const PadPoint& v, const PadPoint& a, const P
 // when given, receives the separating axis (for tests).
 inline bool certainlyDisjoint(const std::array<PadPoint, 3>& s, const std::array<PadPoint, 3>& t,
                               Eigen::Vector3d* axis = nullptr) {
+  // The six corners relative to o = s[0], computed once for every axis: w = x - o, |w|, and the
+  // pads x.pad + o.pad.
   const PadPoint& o = s[0];
+  std::array<Eigen::Vector3d, 6> w, aw;
+  std::array<double, 6> pad;
+  for (std::size_t k = 0; k < 6; ++k) {
+    const PadPoint& x = k < 3 ? s[k] : t[k - 3];
+    w[k] = x.x - o.x;
+    aw[k] = w[k].cwiseAbs();
+    pad[k] = x.pad + o.pad;
+  }
   // Whether every corner of s is certainly below every corner of t along m, or above.
   const auto along = [&](const Eigen::Vector3d& m) {
-    if (!(m.cwiseAbs().maxCoeff() > 0)) return false;
+    const Eigen::Vector3d am = m.cwiseAbs();
+    if (!(am.maxCoeff() > 0)) return false;
+    const double am_sum = am.sum();
     // the projections and their bounds, relative to o
     double s_lo = HUGE_VAL, s_hi = -HUGE_VAL, t_lo = HUGE_VAL, t_hi = -HUGE_VAL;
-    const Eigen::Vector3d am = m.cwiseAbs();
-    bool sure = true;  // (no bound so small that underflow could spoil it)
-    const auto project = [&](const PadPoint& x, double& lo, double& hi) {
-      const Eigen::Vector3d w = x.x - o.x;
-      const double p = m.dot(w);
-      const double bound = (4 * 0x1.0p-52 * am.dot(w.cwiseAbs()) + (x.pad + o.pad) * am.sum()) * (1 + 1e-12);
-      if (!(bound > 1e-280) && &x != &o) sure = false;
+    for (std::size_t k = 0; k < 6; ++k) {
+      const double p = m.dot(w[k]);
+      const double bound = (4 * 0x1.0p-52 * am.dot(aw[k]) + pad[k] * am_sum) * (1 + 1e-12);
+      // (no bound so small that underflow could spoil it; o itself excepted)
+      if (!(bound > 1e-280) && k != 0) return false;
+      double& lo = k < 3 ? s_lo : t_lo;
+      double& hi = k < 3 ? s_hi : t_hi;
       lo = std::min(lo, p - bound);
       hi = std::max(hi, p + bound);
-    };
-    for (const PadPoint& x : s) project(x, s_lo, s_hi);
-    for (const PadPoint& x : t) project(x, t_lo, t_hi);
-    const bool apart = sure && (s_hi < t_lo || t_hi < s_lo);
+    }
+    const bool apart = s_hi < t_lo || t_hi < s_lo;
     if (apart && axis) *axis = m;
     return apart;
   };
@@ -115,16 +125,27 @@ inline bool certainlyDisjoint(const std::array<PadPoint, 3>& s, const std::array
   }
   const Eigen::Vector3d ns = es[0].cross(es[1]), nt = et[0].cross(et[1]);
   if (along(ns) || along(nt)) return true;
-  for (const Eigen::Vector3d& e : es)
+  // The nine cross products of an edge of each, and the six normals of the edges within their
+  // triangles' planes (for coplanar triangles every cross product is their normal or zero, and
+  // one of these separates them). The answer is whether any of the 17 separates, so the order
+  // only decides how soon: triangles whose normals lie within about 0.06 degrees of each other
+  // (sin^2 < 1e-6) try the edge normals first. In the sweeps these are coplanar cap triangles,
+  // and the cross products were then 9 wasted projections before the axis that separated.
+  const auto crossed = [&] {
+    for (const Eigen::Vector3d& e : es)
+      for (const Eigen::Vector3d& f : et)
+        if (along(e.cross(f))) return true;
+    return false;
+  };
+  const auto inPlane = [&] {
+    for (const Eigen::Vector3d& e : es)
+      if (along(ns.cross(e))) return true;
     for (const Eigen::Vector3d& f : et)
-      if (along(e.cross(f))) return true;
-  // (coplanar triangles: every axis above is their normal; one of the edges' normals within
-  // the plane separates them)
-  for (const Eigen::Vector3d& e : es)
-    if (along(ns.cross(e))) return true;
-  for (const Eigen::Vector3d& f : et)
-    if (along(nt.cross(f))) return true;
-  return false;
+      if (along(nt.cross(f))) return true;
+    return false;
+  };
+  const bool coplanar = ns.cross(nt).squaredNorm() < 1e-6 * ns.squaredNorm() * nt.squaredNorm();
+  return coplanar ? inPlane() || crossed() : crossed() || inPlane();
 }
 
 }  // namespace steady::sweep::detail

@@ -183,6 +183,44 @@ TEST(Separation, DisjointTrianglesGetACertifiedAxis) {
   EXPECT_GE(found, trials * 3 / 5);  // (a third of them are 1e-14 apart)
 }
 
+// Two thin triangles that cross like an X seen along their nearly common normal, one passing
+// just above the other where they cross, each straddling the other's plane: neither normal
+// parts them, nor any edge normal within their planes (their shadows overlap), only the cross
+// product of their long edges. Some pairs are tilted by 1e-4 (normals 0.008 degrees apart,
+// which certainlyDisjoint treats as coplanar and tries its in-plane axes first) and some by
+// 0.1, each in a random frame; every pair must be parted, along an axis that parts the exact
+// points.
+TEST(Separation, CrossedTrianglesOneAboveTheOtherArePartedByTheirEdges) {
+  std::mt19937_64 rng(72);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int trial = 0; trial < 400; ++trial) {
+    const double tilt = trial % 2 ? 1e-4 : 0.1;
+    // s in z = 0 along x; t along y in z = tilt (x + y + 0.03), which is above z = 0 by at
+    // least tilt * 0.01 wherever the shadows overlap (|x|, |y| <= 0.01), and below it at t's far
+    // end (y = -1); s's corner at x = -1 is above t's plane, its corner at x = 1 below.
+    const auto zt = [&](double x, double y) { return tilt * (x + y + 0.03); };
+    const std::array<Vec, 3> s0{{Vec(-1, -0.01, 0), Vec(1, -0.01, 0), Vec(0, 0.01, 0)}};
+    const std::array<Vec, 3> t0{{Vec(-0.01, -1, zt(-0.01, -1)), Vec(0.01, -1, zt(0.01, -1)), Vec(0, 1, zt(0, 1))}};
+    const Eigen::Matrix3d R = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized().toRotationMatrix();
+    const Vec shift(u(rng), u(rng), u(rng));
+    std::array<PadPoint, 3> s, t;
+    for (std::size_t k = 0; k < 3; ++k) s[k] = {R * s0[k] + shift, 0}, t[k] = {R * t0[k] + shift, 0};
+    Vec m;
+    ASSERT_TRUE(certainlyDisjoint(s, t, &m)) << trial;
+    Rational s_lo = exactDot(m, s[0].x), s_hi = s_lo, t_lo = exactDot(m, t[0].x), t_hi = t_lo;
+    for (std::size_t k = 1; k < 3; ++k) {
+      const Rational a = exactDot(m, s[k].x), b = exactDot(m, t[k].x);
+      s_lo = a < s_lo ? a : s_lo, s_hi = a > s_hi ? a : s_hi;
+      t_lo = b < t_lo ? b : t_lo, t_hi = b > t_hi ? b : t_hi;
+    }
+    EXPECT_TRUE(s_hi < t_lo || t_hi < s_lo) << trial;
+    // (the pair is the case meant: each straddles the other's plane, so neither normal parts it)
+    const Vec ns = (s[1].x - s[0].x).cross(s[2].x - s[0].x), nt = (t[1].x - t[0].x).cross(t[2].x - t[0].x);
+    EXPECT_EQ(exactSide(ns, s[0].x, t[0].x) * exactSide(ns, s[0].x, t[2].x), -1) << trial;
+    EXPECT_EQ(exactSide(nt, t[0].x, s[0].x) * exactSide(nt, t[0].x, s[1].x), -1) << trial;
+  }
+}
+
 // Triangles that cross, or share a point without sharing a corner, are never parted.
 TEST(Separation, CrossingTrianglesAreNotParted) {
   std::mt19937_64 rng(63);
