@@ -112,6 +112,20 @@ class FanEveryCap {
   bool before_;
 };
 
+// A test switch: while one lives on a thread, planSpan on that thread keeps the time grids of
+// condition (1) alone (see kBalancedPieces in cycle.cpp), so that the tests of the graded cap
+// rings can reach them with the finely cut cap sides that only unbalanced grids make.
+class UnbalancedGrids {
+ public:
+  UnbalancedGrids();
+  ~UnbalancedGrids();
+  UnbalancedGrids(const UnbalancedGrids&) = delete;
+  UnbalancedGrids& operator=(const UnbalancedGrids&) = delete;
+
+ private:
+  bool before_;
+};
+
 // Removes from the cycle's triangles every pair of the same three vertices in opposite
 // orientations (their sum as a chain is zero, so the winding numbers stay), keeping the
 // triangles that remain in their order. (A polySAM's joints leave such pairs where the caps of a

@@ -36,6 +36,7 @@
 #include <chrono>
 #include <cstdio>
 #include <map>
+#include <optional>
 #include <string>
 
 namespace {
@@ -528,9 +529,10 @@ bool hasArea(const V& a, const V& b, const V& c) {
 }
 
 // Cap sides cut finely (README, "Long cap edges"): the L-shaped prism of the sweep fuzz target
-// along a shear (z += 2.25 y) with a unit translation. Its trajectories are straight, so its
-// strips need pieces in proportion to 1/eps, and at 1e-3 two cap faces have 786 and 1,569
-// points on their sides. Fanned around one point, each made that many thin triangles whose
+// along a shear (z += 2.25 y) with a unit translation. Its trajectories are straight, so with
+// the time grid of condition (1) alone (detail::UnbalancedGrids; the sweep balances such grids
+// now, see TwistingStripsGetBalancedGrids) its strips need pieces in proportion to 1/eps, and
+// at 1e-3 two cap faces have 786 and 1,569 points on their sides. Fanned around one point, each made that many thin triangles whose
 // boxes all met (n^2 pairs for the crossing tests, and again for the output's check, 3 s at
 // 5e-4); they are triangulated in graded rings now (cycle.cpp, kGradedCapPoints). The cycle
 // must stay a closed chain of cap triangles with area, no vertex may lie in more than
@@ -543,6 +545,7 @@ TEST(Envelope, LongCapSidesAreTriangulatedInGradedRings) {
       steady::io::readMotionFile(STEADY_TEST_FIXTURES "/l_prism_shear.json").motion().toMotion(makeBody(m).box());
   {
     const Body body(m.v, m.f);
+    const steady::sweep::detail::UnbalancedGrids unbalanced;  // (balanced grids cut the sides far less)
     const auto plan = steady::sweep::detail::planSpan(body, motion.span(0), nullptr, 0.5 * epsOf(m, 1e-3),
                                                       steady::sweep::GrazingOptions{}, 1 << 16, 0);
     steady::sweep::detail::Cycle cycle;
@@ -576,14 +579,71 @@ TEST(Envelope, LongCapSidesAreTriangulatedInGradedRings) {
   checkEnvelope(m, motion, env, epsOf(m, 1e-3), rng, "L-shaped prism along a shear, long cap sides", CheckOptions{});
 }
 
+// Balanced time grids (cycle.cpp, kBalancedPieces): the L-shaped prism along its shear at 1e-3,
+// whose straight trajectories take the whole span in one step of condition (1). Its twisting
+// strips then needed all their pieces along the segments: cells as long as the span and a
+// thousandth as wide, and caps whose sides were cut as finely. With steps and pieces balanced,
+// the cycle must stay a closed chain with far fewer cap triangles (186 against 19,124 in the
+// graded rings, at the time of writing), its triangles' boxes must meet fewer others (20.9
+// against 69.5 a triangle), and the volume must agree with the unbalanced cycle's within the
+// tolerance times the area.
+TEST(Envelope, TwistingStripsGetBalancedGrids) {
+  namespace d = steady::sweep::detail;
+  const steady::io::TriangleMesh t = steady::io::readMesh(STEADY_TEST_FIXTURES "/l_prism.off");
+  const Mesh m{t.vertices, t.faces};
+  const Motion3 motion =
+      steady::io::readMotionFile(STEADY_TEST_FIXTURES "/l_prism_shear.json").motion().toMotion(makeBody(m).box());
+  const Body body(m.v, m.f);
+  const double eps = epsOf(m, 1e-3);
+  const auto cycleOf = [&](bool balanced) {
+    std::optional<d::UnbalancedGrids> unbalanced;
+    if (!balanced) unbalanced.emplace();
+    const auto plan = d::planSpan(body, motion.span(0), nullptr, 0.5 * eps, steady::sweep::GrazingOptions{}, 1 << 16, 0);
+    d::Cycle c;
+    d::appendSpanCycle(c, nullptr, *plan, nullptr);
+    return c;
+  };
+  // per cycle: its volume and area, and the mean number of other triangles whose boxes meet a
+  // triangle's (a sweep over the boxes sorted by their low x)
+  struct Measures {
+    double volume = 0, area = 0, meets = 0;
+  };
+  const auto measure = [](const d::Cycle& c) {
+    Measures out;
+    std::vector<std::array<V, 2>> box;
+    for (const auto& tri : c.triangles) {
+      const V &a = c.vertices[tri[0]], &b = c.vertices[tri[1]], &e = c.vertices[tri[2]];
+      out.volume += a.dot(b.cross(e)) / 6, out.area += (b - a).cross(e - a).norm() / 2;
+      box.push_back({{a.cwiseMin(b).cwiseMin(e), a.cwiseMax(b).cwiseMax(e)}});
+    }
+    std::sort(box.begin(), box.end(), [](const auto& x, const auto& y) { return x[0].x() < y[0].x(); });
+    std::size_t pairs = 0;
+    for (std::size_t i = 0; i < box.size(); ++i)
+      for (std::size_t j = i + 1; j < box.size() && box[j][0].x() <= box[i][1].x(); ++j)
+        pairs += (box[i][0].array() <= box[j][1].array()).all() && (box[j][0].array() <= box[i][1].array()).all();
+    out.meets = 2.0 * static_cast<double>(pairs) / static_cast<double>(box.size());
+    return out;
+  };
+  const d::Cycle fine = cycleOf(false), balanced = cycleOf(true);
+  EXPECT_EQ(unmatchedEdges(balanced.triangles), 0u) << "the balanced cycle is a closed chain";
+  const Measures f = measure(fine), b = measure(balanced);
+  std::printf("[ info     ] prism shear at 1e-3: cap triangles %zu -> %zu, cycle triangles %zu -> %zu, boxes met per triangle %.1f -> %.1f, area %.4f -> %.4f\n",
+              fine.cap_triangles, balanced.cap_triangles, fine.triangles.size(), balanced.triangles.size(), f.meets, b.meets, f.area, b.area);
+  EXPECT_LT(20 * balanced.cap_triangles, fine.cap_triangles);
+  EXPECT_LT(2 * b.meets, f.meets);
+  EXPECT_NEAR(b.volume, f.volume, eps * b.area);
+}
+
 // Graded rings against fans (detail::FanEveryCap), on seeded random spans whose trajectories
 // are straight (a shear I + u v^T with v . u = 0, and a translation), so that strips cut cap
-// sides finely: the bundled box, tetrahedron and bracket and the L-shaped prism at 5e-4. Both
-// cycles must be closed chains, and the caps must cover the same polygons once: the same
-// volume (divergence theorem, as a sum of tetrahedra from one point) and the same sum of
-// unsigned cap triangle areas (a triangle turned over, or two that overlap, adds to it), to
-// 1e-9 of those sums; no graded cap triangle may be without area. At least a third of the
-// spans must use the rings (their cap triangle counts differ).
+// sides finely: the bundled box, tetrahedron and bracket and the L-shaped prism at 5e-4, with
+// the grids of condition (1) alone (detail::UnbalancedGrids). Both cycles must be closed
+// chains, and the caps must cover the same polygons once: the same volume (divergence theorem,
+// as a sum of tetrahedra from one point) and the same sum of unsigned cap triangle areas (a
+// triangle turned over, or two that overlap, adds to it), to 1e-9 of those sums; no graded cap
+// triangle may be without area. At least a third of the spans must use the rings (their cap
+// triangle counts differ). The cycle of the balanced grid the sweep uses must be closed too,
+// with no more cap triangles, and its volume within the tolerance times its area of theirs.
 TEST(Envelope, GradedCapsCoverWhatTheFansCover) {
   namespace d = steady::sweep::detail;
   const std::vector<std::pair<std::string, Mesh>> meshes = {
@@ -595,7 +655,7 @@ TEST(Envelope, GradedCapsCoverWhatTheFansCover) {
          return Mesh{t.vertices, t.faces};
        }()}};
   struct Measures {
-    double volume = 0, volume_scale = 0, cap_area = 0;
+    double volume = 0, volume_scale = 0, cap_area = 0, area = 0;
     std::size_t caps = 0, thin = 0;
     bool closed = true;
   };
@@ -607,6 +667,7 @@ TEST(Envelope, GradedCapsCoverWhatTheFansCover) {
       const V a = c.vertices[tri[0]] - o, b = c.vertices[tri[1]] - o, e = c.vertices[tri[2]] - o;
       const double six = a.dot(b.cross(e));
       out.volume += six / 6, out.volume_scale += std::abs(six) / 6;
+      out.area += (b - a).cross(e - a).norm() / 2;
       if (i < c.cap_triangles) {
         out.cap_area += (b - a).cross(e - a).norm() / 2;
         out.thin += !hasArea(a, b, e);
@@ -630,14 +691,23 @@ TEST(Envelope, GradedCapsCoverWhatTheFansCover) {
       const V t = k % 2 ? V(diag * V(unit(rng), unit(rng), unit(rng))) : V::Zero();
       const Span3 span = Span3::between(Affine3(), Affine3(L, t));
       const std::string what = name + " span " + std::to_string(k);
-      const auto plan = d::planSpan(body, span, nullptr, 0.5 * 5e-4 * diag, steady::sweep::GrazingOptions{}, 1 << 16, 0);
-      d::Cycle rings, fans;
-      d::appendSpanCycle(rings, nullptr, *plan, nullptr);
+      const auto planOf = [&] { return d::planSpan(body, span, nullptr, 0.5 * 5e-4 * diag, steady::sweep::GrazingOptions{}, 1 << 16, 0); };
+      d::Cycle rings, fans, balanced;
       {
+        const d::UnbalancedGrids unbalanced;
+        const auto plan = planOf();
+        d::appendSpanCycle(rings, nullptr, *plan, nullptr);
         const d::FanEveryCap fan;
         d::appendSpanCycle(fans, nullptr, *plan, nullptr);
       }
-      const Measures r = measure(rings), f = measure(fans);
+      d::appendSpanCycle(balanced, nullptr, *planOf(), nullptr);
+      const Measures r = measure(rings), f = measure(fans), b = measure(balanced);
+      // The balanced grid tessellates the same strips within the same bound (each within eps/2
+      // of the true surfaces, and of each other by eps): the volumes differ by at most eps times
+      // the area the strips and caps sweep, bounded here by the sum of |triangle areas|.
+      EXPECT_TRUE(b.closed) << what;
+      EXPECT_NEAR(b.volume, f.volume, 5e-4 * diag * b.area) << what;
+      EXPECT_LE(b.caps, r.caps) << what;
       ++spans;
       graded += r.caps != f.caps;
       EXPECT_TRUE(r.closed) << what;
