@@ -504,22 +504,28 @@ SpanPlanPtr planSpan(const Body& body, const Span3& span, const Affine3* end_giv
                                                     " time steps for tolerance " + std::to_string(eps) +
                                                     "; raise the tolerance (or max_steps)");
       const double next = nextGridTime(tau, accel, mu, eps);
+      const bool may_balance = first && !unbalanced_grids && next >= 1.0;
+      if (!may_balance && balanced == 0) {
+        tau = next;
+        continue;
+      }
       // The largest twist rate |M e| of the component's segments at this row, and the pieces
-      // that the step of (1) would give them (tessellation.hpp).
+      // a step h would give them (condition (2), tessellation.hpp).
       FlowNorms twist_rate;
       for (const int j : comp_segs[c]) {
-        const Vec e = grid.world.back()[static_cast<std::size_t>(local[segs[static_cast<std::size_t>(j)].q])] -
-                      grid.world.back()[static_cast<std::size_t>(local[segs[static_cast<std::size_t>(j)].p])];
+        const Segment& s = segs[static_cast<std::size_t>(j)];
+        const Vec e = grid.world.back()[static_cast<std::size_t>(local[s.q])] - grid.world.back()[static_cast<std::size_t>(local[s.p])];
         twist_rate.include(FlowNorms::of(M, M * e));
       }
       const auto pieces = [&](double h) { return cellTwist(h, mu, twist_rate) / (0.5 * eps); };
-      if (first && !unbalanced_grids && next >= 1.0 && pieces(1.0) > kBalancedPieces)
-        balanced = std::ceil(std::sqrt(pieces(1.0)));
+      if (may_balance && pieces(1.0) > kBalancedPieces) balanced = std::ceil(std::sqrt(pieces(1.0)));
       if (balanced > 0 && pieces(next - tau) > balanced) {
-        // the largest step whose cells need at most `balanced` pieces
+        // The largest step whose cells need at most `balanced` pieces, evened out over what is
+        // left of the span (so that no sliver of a step is left at its end).
         double h = (next - tau) * balanced / pieces(next - tau);
         while (pieces(h) > balanced) h *= 0.97;
-        tau += h;
+        const double rem = 1.0 - tau, steps = std::ceil(rem / h);
+        tau = steps <= 1 ? 1.0 : tau + rem / steps;
       } else {
         tau = next;
       }
