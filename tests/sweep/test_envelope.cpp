@@ -523,6 +523,16 @@ std::size_t unmatchedEdges(const std::vector<std::array<int, 3>>& triangles) {
   return unmatched;
 }
 
+// The L-shaped prism of the sweep fuzz target (tests/sweep/fixtures), and its shear along
+// z += 2.25 y with a unit translation, whose trajectories are straight.
+Mesh lPrism() {
+  const steady::io::TriangleMesh t = steady::io::readMesh(STEADY_TEST_FIXTURES "/l_prism.off");
+  return Mesh{t.vertices, t.faces};
+}
+Motion3 lPrismShear(const Mesh& m) {
+  return steady::io::readMotionFile(STEADY_TEST_FIXTURES "/l_prism_shear.json").motion().toMotion(makeBody(m).box());
+}
+
 // Whether the triangle (a, b, c) has area: twice its area above 1e-12 of its longest side squared.
 bool hasArea(const V& a, const V& b, const V& c) {
   return (b - a).cross(c - a).norm() > 1e-12 * std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
@@ -539,10 +549,8 @@ bool hasArea(const V& a, const V& b, const V& c) {
 // kGradedCapPoints (256) of them (a fan's apex lies in all of its triangles: 1,569), and their
 // boxes may meet in fewer than 50 pairs per cap triangle (the rings: 29; the fans: 588).
 TEST(Envelope, LongCapSidesAreTriangulatedInGradedRings) {
-  const steady::io::TriangleMesh t = steady::io::readMesh(STEADY_TEST_FIXTURES "/l_prism.off");
-  const Mesh m{t.vertices, t.faces};
-  const Motion3 motion =
-      steady::io::readMotionFile(STEADY_TEST_FIXTURES "/l_prism_shear.json").motion().toMotion(makeBody(m).box());
+  const Mesh m = lPrism();
+  const Motion3 motion = lPrismShear(m);
   {
     const Body body(m.v, m.f);
     const steady::sweep::detail::UnbalancedGrids unbalanced;  // (balanced grids cut the sides far less)
@@ -589,10 +597,8 @@ TEST(Envelope, LongCapSidesAreTriangulatedInGradedRings) {
 // tolerance times the area.
 TEST(Envelope, TwistingStripsGetBalancedGrids) {
   namespace d = steady::sweep::detail;
-  const steady::io::TriangleMesh t = steady::io::readMesh(STEADY_TEST_FIXTURES "/l_prism.off");
-  const Mesh m{t.vertices, t.faces};
-  const Motion3 motion =
-      steady::io::readMotionFile(STEADY_TEST_FIXTURES "/l_prism_shear.json").motion().toMotion(makeBody(m).box());
+  const Mesh m = lPrism();
+  const Motion3 motion = lPrismShear(m);
   const Body body(m.v, m.f);
   const double eps = epsOf(m, 1e-3);
   const auto cycleOf = [&](bool balanced) {
@@ -646,10 +652,7 @@ TEST(Envelope, RandomShearsWithBalancedGridsPassTheOracle) {
   const std::vector<std::pair<std::string, Mesh>> meshes = {
       {"box", bundledMesh("box")},
       {"bracket", bundledMesh("bracket")},
-      {"l_prism", [] {
-         const steady::io::TriangleMesh t = steady::io::readMesh(STEADY_TEST_FIXTURES "/l_prism.off");
-         return Mesh{t.vertices, t.faces};
-       }()}};
+      {"l_prism", lPrism()}};
   std::mt19937_64 rng(72);
   std::uniform_real_distribution<double> unit(-1.0, 1.0), size(1.0, 2.5);
   std::size_t spans = 0, balanced = 0;
@@ -704,10 +707,7 @@ TEST(Envelope, GradedCapsCoverWhatTheFansCover) {
       {"box", bundledMesh("box")},
       {"tetrahedron", bundledMesh("tetrahedron")},
       {"bracket", bundledMesh("bracket")},
-      {"l_prism", [] {
-         const steady::io::TriangleMesh t = steady::io::readMesh(STEADY_TEST_FIXTURES "/l_prism.off");
-         return Mesh{t.vertices, t.faces};
-       }()}};
+      {"l_prism", lPrism()}};
   struct Measures {
     double volume = 0, volume_scale = 0, cap_area = 0, area = 0;
     std::size_t caps = 0, thin = 0;
