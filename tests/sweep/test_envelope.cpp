@@ -691,6 +691,26 @@ TEST(Envelope, RandomShearsWithBalancedGridsPassTheOracle) {
   EXPECT_GE(2 * balanced, spans) << "too few spans take balanced grids: stronger shears";
 }
 
+// PolySAMs of straight shears: every velocity is along one direction u (v(x) = u (w . x) + t), so
+// the grazing chords slide along themselves, or, with t = 0, stand still in the plane of fixed
+// points. Where such a chord crosses an edge between two faces, its point there lies off the
+// posed edge by rounding; the two spans' caps at the joint must still merge (cycle.cpp,
+// "Joints"), or the flat cap of one span and the cap of the other, bent by 1e-17 at that point,
+// cross at that angle over the whole face. The box along two random shears with translations,
+// a shear then a translation, and two linear shears whose planes of fixed points cross it (the
+// fixtures): one embedded shell each, which the oracle checks.
+TEST(Envelope, PolySamsOfStraightShearsMergeTheirJoints) {
+  const Mesh m = bundledMesh("box");
+  std::mt19937_64 rng(73);
+  for (const std::string name : {"box_two_shears", "box_shear_translation", "box_two_fixed_shears"}) {
+    SCOPED_TRACE(name);
+    const Motion3 motion = steady::io::readMotionFile(STEADY_TEST_FIXTURES "/" + name + ".json").motion().toMotion(makeBody(m).box());
+    const Envelope env = sweep(m, motion, 1e-3);
+    expectOneEmbeddedShell(env);
+    checkEnvelope(m, motion, env, epsOf(m, 1e-3), rng, name);
+  }
+}
+
 // Graded rings against fans (detail::FanEveryCap), on seeded random spans whose trajectories
 // are straight (a shear I + u v^T with v . u = 0, and a translation), so that strips cut cap
 // sides finely: the bundled box, tetrahedron and bracket and the L-shaped prism at 5e-4, with
