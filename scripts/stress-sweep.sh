@@ -5,7 +5,8 @@
 # case's lines to LOG, then prints the counts of this run and the cases that did not pass.
 #
 # Usage: scripts/stress-sweep.sh [FIRST [END]] [steady_sweep_stress options: --dense,
-#        --all-vertices, --repro-dir DIR, --smooth (the second table: smooth keyframe motions)]
+#        --all-vertices, --repro-dir DIR, --smooth (the second table: smooth keyframe motions),
+#        --shears (the third table: polySAMs of straight shears)]
 # Environment: BUILD_DIR (default build/), JOBS (cases at a time, default nproc), LIMIT (seconds
 # per case, default 300), LOG (default $BUILD_DIR/stress-sweep.log).
 # A CRASH is a case whose process ended otherwise than by PASS, VOID, SKIP (exit 0) or FAIL,

@@ -7,6 +7,8 @@
 //   steady_sweep_stress --first I [--end J]     cases I .. J-1 of the table (default: case I)
 //   --smooth         with --first: the second table, smooth keyframe motions (see
 //                    smoothCaseOf); with --case, KIND "smooth" draws such a motion
+//   --shears         with --first: the third table, polySAMs of straight shears (see
+//                    shearCaseOf); with --case, KIND "shears" draws such a motion
 //   steady_sweep_stress --case MESH KIND SEED REL [--mesh-file F] [--motion-file F]
 //                                               one case by its parameters; the files (as
 //                                               written by --repro-dir) replace the generated
@@ -114,6 +116,19 @@ Case smoothCaseOf(long i) {
   return c;
 }
 
+// Case i of the third table (--shears): every mesh in turn along a polySAM of straight shears
+// of its own (see randomShearPolySam), the tolerance alternating as in the first table.
+Case shearCaseOf(long i) {
+  const long round = i / kMeshCount;
+  const int m = static_cast<int>(i % kMeshCount);
+  Case c;
+  c.mesh = kMeshNames[m];
+  c.kind = "shears";
+  c.seed = 1000003ull * static_cast<std::uint64_t>(round) + 101ull * static_cast<std::uint64_t>(m) + 13;
+  c.rel = (round + m) % 2 ? 2e-3 : 1e-3;
+  return c;
+}
+
 std::string format(const char* f, ...) __attribute__((format(printf, 1, 2)));
 std::string format(const char* f, ...) {
   va_list ap;
@@ -211,6 +226,42 @@ Motion3 randomSmoothMotion(std::mt19937_64& rng, const steady::Box<3>& body) {
       if (e.code() != steady::ErrorCode::NoRealLog) throw;
     }
   }
+}
+
+// A polySAM of 2 or 3 spans along each of which every point moves on a straight line at a
+// constant speed: from a random rigid pose, each key is the last one moved by a shear
+// x -> c + (I + u v^T)(x - c) + t with |v| = 1 and v . u = v . t = 0, whose log is
+// [u v^T, t - u v^T c] (u v^T squares to zero). |u| is 0.5 to 2, c a point of the posed body's
+// box (the plane of points that the shear part keeps is v . (x - c) = 0). A third of the spans
+// have t = 0 (that plane is held fixed and crosses the body: fixed points on the body's edges,
+// where the grazing chords lie), a third t along u, up to half the body's diagonal (the fixed
+// plane shifted), and the rest t of 0.2 to 0.5 diagonals across v and u (no point is fixed).
+// The first table's polySAMs have such spans only by chance (its "shearscale" kind also
+// scales); along these the strips of grazing chords slide along themselves or stand still,
+// and a cap's points at a joint are held fixed or placed on a line (cycle.cpp).
+Motion3 randomShearPolySam(std::mt19937_64& rng, const steady::Box<3>& body) {
+  const double reach = body.diagonal();
+  std::vector<steady::Affine3> poses{randomRigidPose(rng, 0.5)};
+  const int spans = 2 + static_cast<int>(rng() % 2);
+  for (int k = 0; k < spans; ++k) {
+    const V v = randomUnit(rng);
+    const V across = v.unitOrthogonal(), third = v.cross(across);
+    const double turn = uniform(rng, 0, 2 * M_PI);
+    const V u = uniform(rng, 0.5, 2.0) * (std::cos(turn) * across + std::sin(turn) * third);
+    V c = poses.back()(0.5 * (body.lo + body.hi));  // (then a point of the posed box)
+    const V offset(uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1));
+    c += poses.back().linear() * (0.5 * (body.hi - body.lo)).cwiseProduct(offset);
+    V t = V::Zero();
+    const int which = static_cast<int>(rng() % 3);
+    if (which == 1) t = uniform(rng, -0.5, 0.5) * reach * u.normalized();
+    if (which == 2) {
+      const double a = uniform(rng, 0, 2 * M_PI);
+      t = uniform(rng, 0.2, 0.5) * reach * (std::cos(a) * across + std::sin(a) * third);
+    }
+    const Eigen::Matrix3d L = Eigen::Matrix3d::Identity() + u * v.transpose();
+    poses.push_back(steady::Affine3(L, c - L * c + t) * poses.back());
+  }
+  return Motion3::polySam(poses);
 }
 
 MotionKind kindOf(const std::string& name) {
@@ -379,6 +430,7 @@ std::string runCase(const Case& c, long index, const Options& opt) {
   const Motion3 motion = !opt.motion_file.empty()
                              ? steady::io::readMotionFile(opt.motion_file).motion().toMotion(makeBody(mesh).box())
                          : c.kind == "smooth" ? randomSmoothMotion(motion_rng, makeBody(mesh).box())
+                         : c.kind == "shears" ? randomShearPolySam(motion_rng, makeBody(mesh).box())
                                               : randomMotion(kindOf(c.kind), motion_rng);
   // The checks draw from a generator of their own, so that the motion does not depend on them.
   std::mt19937_64 check_rng(c.seed * 6364136223846793005ull + 1442695040888963407ull);
@@ -532,7 +584,7 @@ std::string runCase(const Case& c, long index, const Options& opt) {
 [[noreturn]] void usage(const std::string& why) {
   std::fprintf(stderr,
                "steady_sweep_stress: %s\n"
-               "usage: steady_sweep_stress (--first I [--end J] [--smooth] | --case MESH KIND SEED REL [--mesh-file F]\n"
+               "usage: steady_sweep_stress (--first I [--end J] [--smooth | --shears] | --case MESH KIND SEED REL [--mesh-file F]\n"
                "       [--motion-file F]) [--dense] [--all-vertices] [--refinements N] [--repro-dir DIR] [--log FILE]\n"
                "       [--list]\n",
                why.c_str());
@@ -557,7 +609,7 @@ int main(int argc, char** argv) {
   Options opt;
   long first = -1, end = -1;
   std::optional<Case> custom;
-  bool list = false, smooth = false;
+  bool list = false, smooth = false, shears = false;
   std::vector<std::string> args(argv + 1, argv + argc);
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
@@ -578,7 +630,8 @@ int main(int argc, char** argv) {
       if (*stop != '\0' || !(c.rel > 0)) usage("not a positive tolerance: " + rel);
       if (std::find(std::begin(kMeshNames), std::end(kMeshNames), c.mesh) == std::end(kMeshNames))
         usage("unknown mesh " + c.mesh);
-      if (c.kind != "smooth" && std::find(std::begin(kKindNames), std::end(kKindNames), c.kind) == std::end(kKindNames))
+      if (c.kind != "smooth" && c.kind != "shears" &&
+          std::find(std::begin(kKindNames), std::end(kKindNames), c.kind) == std::end(kKindNames))
         usage("unknown motion kind " + c.kind);
       custom = c;
     } else if (a == "--mesh-file") opt.mesh_file = value();
@@ -590,18 +643,21 @@ int main(int argc, char** argv) {
     else if (a == "--log") opt.log = value();
     else if (a == "--list") list = true;
     else if (a == "--smooth") smooth = true;
+    else if (a == "--shears") shears = true;
     else usage("unknown argument " + a);
   }
   if (custom.has_value() == (first >= 0)) usage("give either --first or --case");
   if (!custom && end < 0) end = first + 1;
   if (!custom && end <= first) usage("--end must be greater than --first");
   if (custom && smooth) usage("--smooth goes with --first (with --case, give KIND smooth)");
+  if (custom && shears) usage("--shears goes with --first (with --case, give KIND shears)");
+  if (smooth && shears) usage("give --smooth or --shears, not both");
   if (!custom && !(opt.mesh_file.empty() && opt.motion_file.empty()))
     usage("--mesh-file and --motion-file go with --case");
 
   std::vector<std::pair<long, Case>> cases;
   if (custom) cases.emplace_back(-1, *custom);
-  for (long i = first; !custom && i < end; ++i) cases.emplace_back(i, smooth ? smoothCaseOf(i) : caseOf(i));
+  for (long i = first; !custom && i < end; ++i) cases.emplace_back(i, smooth ? smoothCaseOf(i) : shears ? shearCaseOf(i) : caseOf(i));
   bool failed = false;
   try {
     for (const auto& [index, c] : cases) {
