@@ -103,31 +103,24 @@ Case caseOf(long i) {
   return c;
 }
 
-// Case i of the second table (--smooth): every mesh in turn along a smooth keyframe motion of
-// its own (see randomSmoothMotion), the tolerance alternating as in the first table.
-Case smoothCaseOf(long i) {
+// Case i of a table of one motion kind: every mesh in turn along a motion of that kind of its
+// own, the tolerance alternating as in the first table; `salt` keeps the tables' seeds apart.
+Case meshTableCaseOf(long i, const char* kind, std::uint64_t salt) {
   const long round = i / kMeshCount;
   const int m = static_cast<int>(i % kMeshCount);
   Case c;
   c.mesh = kMeshNames[m];
-  c.kind = "smooth";
-  c.seed = 1000003ull * static_cast<std::uint64_t>(round) + 101ull * static_cast<std::uint64_t>(m) + 11;
+  c.kind = kind;
+  c.seed = 1000003ull * static_cast<std::uint64_t>(round) + 101ull * static_cast<std::uint64_t>(m) + salt;
   c.rel = (round + m) % 2 ? 2e-3 : 1e-3;
   return c;
 }
 
-// Case i of the third table (--shears): every mesh in turn along a polySAM of straight shears
-// of its own (see randomShearPolySam), the tolerance alternating as in the first table.
-Case shearCaseOf(long i) {
-  const long round = i / kMeshCount;
-  const int m = static_cast<int>(i % kMeshCount);
-  Case c;
-  c.mesh = kMeshNames[m];
-  c.kind = "shears";
-  c.seed = 1000003ull * static_cast<std::uint64_t>(round) + 101ull * static_cast<std::uint64_t>(m) + 13;
-  c.rel = (round + m) % 2 ? 2e-3 : 1e-3;
-  return c;
-}
+// Case i of the second table (--smooth): smooth keyframe motions (see randomSmoothMotion).
+Case smoothCaseOf(long i) { return meshTableCaseOf(i, "smooth", 11); }
+
+// Case i of the third table (--shears): polySAMs of straight shears (see randomShearPolySam).
+Case shearCaseOf(long i) { return meshTableCaseOf(i, "shears", 13); }
 
 std::string format(const char* f, ...) __attribute__((format(printf, 1, 2)));
 std::string format(const char* f, ...) {
