@@ -85,7 +85,8 @@ SpanPlanPtr planSpan(const Body& body, const Span3& span, const Affine3* end_pos
 //   reversed Front at τ = 0 instead of Back: the polySAM's cycle is body(0) plus each span's
 //   Front(1) - Front(0) + strips (the reasoning is at the top of cycle.cpp).
 // Joints (`prev` and `next`, null at the motion's ends): where two spans meet, the edges that
-//   neither span slides along themselves or holds still subdivide at the points of both spans, and a
+//   neither span slides along themselves nor holds still subdivide at the points of both spans
+//   (an edge that a sliding or fixed grazing chord only crosses does too), and a
 //   face's end cap and the next span's reversed start cap, which then have the same sides, are
 //   not emitted when they cancel (a face Front in both) or are replaced by their sum (Front in
 //   one span and split by a grazing chord in the other: the side of the chord that is Back in

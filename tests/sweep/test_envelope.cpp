@@ -644,9 +644,8 @@ TEST(Envelope, TwistingStripsGetBalancedGrids) {
 // v . u = 0, and a translation across v, so that every trajectory is straight) of the bundled
 // box and bracket and the L-shaped prism at 1e-3, two each. Every envelope must be closed,
 // embedded, one shell, and pass checkEnvelope; at least half of the spans must take balanced
-// grids (fewer cycle triangles than with detail::UnbalancedGrids). (PolySAMs of two such
-// shears are not here: the box's and the bracket's envelopes along them came out open with
-// the grids balanced or not; see README, Limits.)
+// grids (fewer cycle triangles than with detail::UnbalancedGrids). (PolySAMs of such shears:
+// PolySamsOfStraightShearsMergeTheirJoints below, and the campaign's third table.)
 TEST(Envelope, RandomShearsWithBalancedGridsPassTheOracle) {
   namespace d = steady::sweep::detail;
   const std::vector<std::pair<std::string, Mesh>> meshes = {
