@@ -60,6 +60,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <map>
 #include <numeric>
 #include <string>
 
@@ -1067,7 +1068,7 @@ void appendSpanCycle(Cycle& out, const SpanPlan* prev, const SpanPlan& plan, con
   // cancel. The span after emits it at τ = 0, one fan per closed loop of that boundary, around
   // the mean of the loop's points (placed exactly in the posed face's plane): where the chords
   // do not cross inside the face each loop bounds a convex region; where they cross, the one
-  // loop's fan overlaps itself, which the arrangement resolves. The span before leaves its
+  // loop crosses itself and is first cut there (splitAndFan). The span before leaves its
   // chord's vertices at τ = 1 in Cycle::joint_chord.
   // The vertices of face f's chord at τ = 0 or 1, from the Front polygon's first zero to its
   // second.
@@ -1077,6 +1078,72 @@ void appendSpanCycle(Cycle& out, const SpanPlan* prev, const SpanPlan& plan, con
     for (int q : sub[plan.chord_segment[f]]) chord.push_back(at(q));
     chord.push_back(at(s.q));
     return chord;
+  };
+  // Fans a closed loop of a joint cap (below) around the mean of its points, placed exactly in
+  // the plane of A, B, C. Where the two chords cross inside the face, the loop crosses itself
+  // and its fan would overlap itself: triangles of opposite orientations over the same area,
+  // which cancel only if they are exactly coplanar, and they are not (a chord that stands still
+  // keeps its τ = 0 vertices, a chord that slides along itself lies on a line through a
+  // neighbouring face: both a rounding off the joint pose's plane). In the arrangement they did
+  // not cancel, and one of them reached the envelope inside the swept volume, unreported (the
+  // campaign's polySAMs of straight shears, case 27: 3.4 ε deep). So the loop is cut at the
+  // crossing X of two of its edges (found in the face's coordinates) into the two loops on
+  // either side of X, each fanned alike (each is convex: a face cut by two lines). X is placed
+  // exactly on the first edge (p, q); the triangles (p, q, X) (no area: dropped by the
+  // trimming) and (r, s, X) for the second edge (r, s) keep the sum of the triangles' boundaries
+  // the loop. The second is a sliver, as wide as the rounding that keeps the two edges from
+  // meeting; left as it is, it broke the output of 2 of 7 such cases (edges of three faces), so
+  // it is merged with the triangle across r s when the cycle is complete (mergeJointSlivers).
+  auto splitAndFan = [&](std::vector<int> loop, const PlaneCoordinates& onFace, int A, int B, int C) {
+    auto emit = [&](int a, int b, int c) {
+      out.triangles.push_back({{a, b, c}});
+      ++out.cap_triangles;
+    };
+    std::vector<std::vector<int>> todo{std::move(loop)};
+    while (!todo.empty()) {
+      std::vector<int> lp = std::move(todo.back());
+      todo.pop_back();
+      const std::size_t n = lp.size();
+      if (n < 3) continue;  // (x to y and back: nothing)
+      std::vector<std::array<double, 2>> uv(n);
+      for (std::size_t k = 0; k < n; ++k) uv[k] = onFace(out.vertices[lp[k]]);
+      auto orient = [&](std::size_t a, std::size_t b, std::size_t c) {
+        return (uv[b][0] - uv[a][0]) * (uv[c][1] - uv[a][1]) - (uv[b][1] - uv[a][1]) * (uv[c][0] - uv[a][0]);
+      };
+      // The first pair of edges (i, i + 1), (j, j + 1) that are not neighbours and cross
+      // properly (each one's ends strictly on either side of the other's line, in doubles: a
+      // crossing missed or found near an end only decides whether a tiny lobe is cut off, the
+      // triangles' sum is the loop either way).
+      std::size_t ci = n, cj = n;
+      double at = 0;
+      for (std::size_t i = 0; i + 2 < n && ci == n; ++i)
+        for (std::size_t j = i + 2; j < n && ci == n; ++j) {
+          const std::size_t i1 = i + 1, j1 = (j + 1) % n;
+          if (j1 == i) continue;
+          const double oi = orient(i, i1, j), oi1 = orient(i, i1, j1);
+          const double oj = orient(j, j1, i), oj1 = orient(j, j1, i1);
+          if (oi * oi1 < 0 && oj * oj1 < 0) ci = i, cj = j, at = oj / (oj - oj1);
+        }
+      if (ci < n) {
+        const std::size_t i1 = ci + 1, j1 = (cj + 1) % n;
+        const int x = combination(lp[ci], lp[i1], -1, at, 0.0);
+        emit(lp[ci], lp[i1], x);
+        emit(lp[cj], lp[j1], x);
+        out.joint_slivers.push_back({{static_cast<int>(out.triangles.size()) - 1, lp[cj], lp[j1], x}});
+        std::vector<int> one{x}, two{x};
+        for (std::size_t k = i1; k <= cj; ++k) one.push_back(lp[k]);
+        for (std::size_t k = j1; k != i1; k = (k + 1) % n) two.push_back(lp[k]);
+        todo.push_back(std::move(one));
+        todo.push_back(std::move(two));
+        continue;
+      }
+      Vec mean = Vec::Zero();
+      for (int v : lp) mean += out.vertices[v];
+      mean /= static_cast<double>(n);
+      const std::array<double, 2> st = onFace(mean);
+      const int cv = combination(A, B, C, st[0], st[1]);
+      for (std::size_t k = 0; k < n; ++k) emit(cv, lp[k], lp[(k + 1) % n]);
+    }
   };
   auto emitSplitJoint = [&](int f) {
     std::vector<std::array<int, 2>> edges;  // the boundary, as directed edges
@@ -1120,16 +1187,7 @@ void appendSpanCycle(Cycle& out, const SpanPlan* prev, const SpanPlan& plan, con
                                                       " at its joint do not close (an internal error; please report it)");
         k = n;
       }
-      if (loop.size() < 3) continue;  // (x to y and back: nothing)
-      Vec mean = Vec::Zero();
-      for (int v : loop) mean += out.vertices[v];
-      mean /= static_cast<double>(loop.size());
-      const std::array<double, 2> st = onFace(mean);
-      const int cv = combination(A, B, C, st[0], st[1]);
-      for (std::size_t k = 0; k < loop.size(); ++k) {
-        out.triangles.push_back({{cv, loop[k], loop[(k + 1) % loop.size()]}});
-        ++out.cap_triangles;
-      }
+      splitAndFan(loop, onFace, A, B, C);
     }
   };
   // A face's caps at a joint whose edges all hold both spans' points (see 5): the end cap of the
@@ -1256,6 +1314,34 @@ FanEveryCap::FanEveryCap() : before_(fan_every_cap) { fan_every_cap = true; }
 FanEveryCap::~FanEveryCap() { fan_every_cap = before_; }
 UnbalancedGrids::UnbalancedGrids() : before_(unbalanced_grids) { unbalanced_grids = true; }
 UnbalancedGrids::~UnbalancedGrids() { unbalanced_grids = before_; }
+
+void mergeJointSlivers(Cycle& cycle) {
+  auto& T = cycle.triangles;
+  // The slivers' edges in reverse, (s, r), each to the first other triangle that holds it.
+  std::map<std::pair<int, int>, std::size_t> across;
+  for (const auto& sl : cycle.joint_slivers) across.emplace(std::make_pair(sl[2], sl[1]), T.size());
+  std::vector<char> sliver(T.size(), 0);
+  for (const auto& sl : cycle.joint_slivers) sliver[static_cast<std::size_t>(sl[0])] = 1;
+  for (std::size_t f = 0; f < T.size(); ++f) {
+    if (sliver[f]) continue;
+    for (int k = 0; k < 3; ++k) {
+      const auto it = across.find({T[f][k], T[f][(k + 1) % 3]});
+      if (it != across.end() && it->second == T.size()) it->second = f;
+    }
+  }
+  std::vector<char> taken(T.size(), 0);
+  for (const auto& [index, r, s, x] : cycle.joint_slivers) {
+    const std::size_t f = across[{s, r}];
+    if (f == T.size() || taken[f]) continue;
+    taken[f] = 1;
+    std::array<int, 3> t = T[f];
+    while (t[0] != s) std::rotate(t.begin(), t.begin() + 1, t.end());
+    const int w = t[2];
+    T[f] = {{s, x, w}};
+    T[static_cast<std::size_t>(index)] = {{x, r, w}};
+  }
+  cycle.joint_slivers.clear();
+}
 
 void cancelOpposite(Cycle& cycle) {
   // Per triangle: its set of three vertices (sorted), its position, and +1 in one orientation

@@ -46,6 +46,10 @@ struct Cycle {
   // next, when their caps there are merged (appendSpanCycle): the vertices of its chord at the
   // end, from the Front polygon's first zero to its second. Empty for the other faces.
   std::vector<std::vector<int>> joint_chord;
+  // Slivers of joint caps cut at a crossing of their chords (appendSpanCycle): per sliver its
+  // triangle (r, s, x) as (index in `triangles`, r, s, x), x a rounding off the line r s, to be
+  // merged with a triangle on the other side of r s by mergeJointSlivers.
+  std::vector<std::array<int, 4>> joint_slivers;
 };
 
 // What a span's cycle depends on besides its neighbours (cycle.cpp): the span's grazing set,
@@ -132,5 +136,12 @@ class UnbalancedGrids {
 // triangles that remain in their order. (A polySAM's joints leave such pairs where the caps of a
 // face could not be merged: next to an edge placed on a line, see appendSpanCycle.)
 void cancelOpposite(Cycle& cycle);
+
+// Merges each of the cycle's joint slivers (Cycle::joint_slivers) (r, s, x) with a triangle
+// (s, r, w) that holds their edge in reverse: the two become (s, x, w) and (x, r, w), in the
+// places of the two (so the triangles' count and every span's range of them stay), with the same
+// sum of boundaries. A sliver whose edge no other triangle holds is left as it is. Call it when
+// every span is appended, before cancelOpposite; it empties joint_slivers.
+void mergeJointSlivers(Cycle& cycle);
 
 }  // namespace steady::sweep::detail

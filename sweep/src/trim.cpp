@@ -6104,6 +6104,7 @@ Envelope detail::sweptEnvelope(const Body& body, const Motion3& motion, const Sw
       }
       span_end.push_back(cycle.triangles.size());
     }
+    detail::mergeJointSlivers(cycle);
     std::vector<Vec> sheet_vertices;
     std::vector<Tri> sheet_triangles;
     if (n > 1 && options.refinements > 0) {
